@@ -1,0 +1,54 @@
+"""lubelink: vibration of a flexible link carrying a lubricated prismatic joint.
+
+Implements, corrects and extends Marghitu & Guran, "The Dynamics of a
+Flexible Beam With a Lubricated Prismatic Kinematic Pair" (J. Vibration and
+Acoustics). See the README and docs/ for the model and its relation to the
+paper.
+
+=================  ===========================================================
+module             job
+=================  ===========================================================
+``params``         frozen parameter dataclasses in SI
+``config``         TOML <-> parameters, scenarios, validation
+``kinematics``     prescribed rigid motion (slider-crank, user motion)
+``beam``           sine modes, frequencies, modal loads, deflection
+``film``           Reynolds film pressure and modal film force
+``contact``        film breakdown, restitution impact
+``model``          the modal ODE right-hand side
+``integrate``      step driver, Bulirsch-Stoer
+``simulate``       orchestrator: configuration -> Dataset
+``results``        NetCDF save/load
+=================  ===========================================================
+"""
+
+from .config import ConfigError, SCENARIOS, load as load_config, resolve as resolve_config
+from .params import Beam, Collar, Config, Contact, Film, Mechanism, Output, Solver
+from .results import ResultsFileError, load, save
+from .simulate import simulate
+
+try:
+    from importlib.metadata import version as _version
+
+    __version__ = _version("lubelink")
+except Exception:  # not installed (running from a source tree)
+    __version__ = "0+unknown"
+
+__all__ = [
+    "simulate",
+    "load",
+    "save",
+    "load_config",
+    "resolve_config",
+    "ConfigError",
+    "ResultsFileError",
+    "SCENARIOS",
+    "Config",
+    "Mechanism",
+    "Beam",
+    "Film",
+    "Collar",
+    "Contact",
+    "Solver",
+    "Output",
+    "__version__",
+]

@@ -1,0 +1,177 @@
+"""Pinned-pinned Euler-Bernoulli link in sine modes (MODEL.md sections 1-2, D3).
+
+``u2(x, t) = sum_n q_n(t) sin(beta_n x)``, ``beta_n = n pi / L``. Every
+function here is pure and vectorised over modes (last axis) and, where it
+makes sense, over leading time axes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "wavenumbers",
+    "natural_frequencies",
+    "modal_mass",
+    "rigid_forcing",
+    "project_point_load",
+    "project_distributed_load",
+    "modal_acceleration",
+    "deflection",
+    "slope",
+    "curvature",
+    "modal_energy",
+]
+
+
+def wavenumbers(modes, rod_length):
+    """Modal wavenumbers ``beta_n = n pi / L`` [1/m] for ``n = 1..modes``."""
+    return np.arange(1, modes + 1) * np.pi / rod_length
+
+
+def natural_frequencies(modes, rod_length, youngs_modulus, second_moment, density, area):
+    """Natural circular frequencies ``omega_n = beta_n^2 sqrt(EI/(rho A))`` [rad/s].
+
+    Parameters
+    ----------
+    modes : int
+        Number of modes ``N`` [-].
+    rod_length : float
+        ``L`` [m].
+    youngs_modulus : float
+        ``E`` [Pa].
+    second_moment : float
+        ``I_z`` [m^4].
+    density : float
+        ``rho`` [kg/m^3].
+    area : float
+        ``A`` [m^2].
+    """
+    beta = wavenumbers(modes, rod_length)
+    return beta**2 * np.sqrt(youngs_modulus * second_moment / (density * area))
+
+
+def modal_mass(density, area, rod_length):
+    """Mass of every sine mode, ``rho A L / 2`` [kg]."""
+    return 0.5 * density * area * rod_length
+
+
+def rigid_forcing(A_O2, alpha, modes, rod_length):
+    """Modal load of the rigid-motion inertia per unit modal mass [m/s^2].
+
+    The sine transform of ``-rho A (A_O2 + alpha x)`` divided by the modal
+    mass (MODEL.md section 2, corrected paper Eq. 18):
+    ``-2/(L beta_n) {A_O2 [1 + (-1)^(n+1)] + alpha L (-1)^(n+1)}``.
+
+    Parameters
+    ----------
+    A_O2 : float or ndarray
+        True transverse acceleration of O [m/s^2].
+    alpha : float or ndarray
+        Angular acceleration of the link [rad/s^2].
+    modes : int
+        ``N`` [-].
+    rod_length : float
+        ``L`` [m].
+
+    Returns
+    -------
+    ndarray, shape ``(..., modes)``
+    """
+    n = np.arange(1, modes + 1)
+    beta = n * np.pi / rod_length
+    sign = np.where(n % 2 == 1, 1.0, -1.0)  # (-1)^(n+1)
+    A_O2 = np.asarray(A_O2, dtype=float)[..., None]
+    alpha = np.asarray(alpha, dtype=float)[..., None]
+    return -2.0 / (rod_length * beta) * (A_O2 * (1.0 + sign) + alpha * rod_length * sign)
+
+
+def project_point_load(force, position, modes, rod_length):
+    """Sine transform of a point force, ``F sin(beta_n x_F)`` [N].
+
+    Parameters
+    ----------
+    force : float or ndarray
+        Force along +j [N].
+    position : float or ndarray
+        Where it acts, from O [m].
+    """
+    beta = wavenumbers(modes, rod_length)
+    force = np.asarray(force, dtype=float)[..., None]
+    position = np.asarray(position, dtype=float)[..., None]
+    return force * np.sin(beta * position)
+
+
+def project_distributed_load(load, start, stop, modes, rod_length, nodes=64):
+    """Sine transform ``int f(x) sin(beta_n x) dx`` of a load on ``[start, stop]`` [N].
+
+    Parameters
+    ----------
+    load : callable
+        Force per unit length along +j [N/m], vectorised in ``x`` [m].
+    start, stop : float
+        Loaded interval [m].
+    nodes : int
+        Gauss-Legendre nodes.
+    """
+    s, w = np.polynomial.legendre.leggauss(nodes)
+    half = 0.5 * (stop - start)
+    x = start + half * (s + 1.0)
+    beta = wavenumbers(modes, rod_length)
+    return half * np.sum((w * load(x))[:, None] * np.sin(np.outer(x, beta)), axis=0)
+
+
+def modal_acceleration(q, q_dot, omega_n, damping_ratio, omega, forcing):
+    """Modal accelerations of the corrected modal ODE [m/s^2] (MODEL.md section 2).
+
+    ``q_ddot = -(omega_n^2 - omega^2) q - 2 zeta omega_n q_dot + forcing``,
+    where ``forcing`` already holds the rigid-motion load and the external
+    modal forces divided by the modal mass.
+    """
+    return -(omega_n**2 - omega**2) * q - 2.0 * damping_ratio * omega_n * q_dot + forcing
+
+
+def _mode_shapes(x, modes, rod_length):
+    beta = wavenumbers(modes, rod_length)
+    return beta, np.multiply.outer(np.asarray(x, dtype=float), beta)
+
+
+def deflection(q, x, rod_length):
+    """Transverse deflection ``u2(x) = sum q_n sin(beta_n x)`` [m].
+
+    Parameters
+    ----------
+    q : ndarray, shape ``(..., N)``
+        Modal coordinates [m].
+    x : ndarray, shape ``(M,)``
+        Positions along the link [m].
+
+    Returns
+    -------
+    ndarray, shape ``(..., M)``
+    """
+    q = np.asarray(q, dtype=float)
+    _, bx = _mode_shapes(x, q.shape[-1], rod_length)
+    return q @ np.sin(bx).T
+
+
+def slope(q, x, rod_length):
+    """``du2/dx`` [-] at ``x``; shapes as :func:`deflection`."""
+    q = np.asarray(q, dtype=float)
+    beta, bx = _mode_shapes(x, q.shape[-1], rod_length)
+    return q @ (beta * np.cos(bx)).T
+
+
+def curvature(q, x, rod_length):
+    """``d2u2/dx2`` [1/m] at ``x``; shapes as :func:`deflection`."""
+    q = np.asarray(q, dtype=float)
+    beta, bx = _mode_shapes(x, q.shape[-1], rod_length)
+    return -(q @ (beta**2 * np.sin(bx)).T)
+
+
+def modal_energy(q, q_dot, omega_n, mass):
+    """Elastic plus kinetic energy of the modes in the link frame [J].
+
+    ``m/2 sum (q_dot_n^2 + omega_n^2 q_n^2)`` with ``m = rho A L / 2``.
+    """
+    return 0.5 * mass * np.sum(np.asarray(q_dot) ** 2 + (omega_n * np.asarray(q)) ** 2, axis=-1)

@@ -1,0 +1,343 @@
+"""Configuration: TOML <-> :class:`~lubelink.params.Config`, scenarios, validation.
+
+Validation happens here, once, at the boundary. Every problem found is
+collected and reported together, one line each, naming the section, the key,
+the value and the rule (:class:`ConfigError`).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from dataclasses import asdict, fields, replace
+from pathlib import Path
+
+from .params import SECTION_TYPES, Config
+
+__all__ = [
+    "ConfigError",
+    "SCENARIOS",
+    "scenario",
+    "load",
+    "from_dict",
+    "to_dict",
+    "to_toml",
+    "parse_override",
+    "resolve",
+    "validate",
+]
+
+#: Clearance of the ``paper-impact`` scenario [m]: found by root finding so
+#: that the first impact falls at t = 1.273 s (paper Fig. 9); see
+#: ``lubelink.paper.calibrate_clearance`` and docs/paper.md.
+PAPER_IMPACT_CLEARANCE = 5.0e-3
+
+#: Built-in scenarios as overrides of the defaults of :mod:`lubelink.params`.
+SCENARIOS: dict[str, dict] = {
+    "paper": {
+        "description": "Section 6 slider-crank, wedge film (paper Figs. 6-8), 1 mode, 0-2 s",
+        "film": {"model": "wedge"},
+        "contact": {"law": "none"},
+    },
+    "paper-dry": {
+        "description": "Section 6 slider-crank without lubricant (paper Fig. 7, dry curve)",
+        "film": {"model": "none"},
+        "contact": {"law": "none"},
+    },
+    "paper-impact": {
+        "description": "Film breakdown and impact, e = 0.7 (paper Fig. 9)",
+        "film": {"model": "wedge", "clearance": PAPER_IMPACT_CLEARANCE},
+        "contact": {"law": "restitution", "restitution": 0.7},
+    },
+}
+
+FILM_MODELS = ("none", "wedge", "wedge+squeeze")
+CONTACT_LAWS = ("none", "restitution")
+PAD_REFERENCES = ("edge", "centre")
+
+
+class ConfigError(ValueError):
+    """Invalid configuration; ``problems`` lists one message per fault."""
+
+    def __init__(self, problems):
+        self.problems = list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+# ----------------------------------------------------------------- rules
+def _num(lo=None, hi=None, lo_open=False, hi_open=False, integer=False, allow_inf=False):
+    """A rule for a number in an interval; returns (check, text)."""
+    left = "(" if lo_open else "["
+    right = ")" if hi_open else "]"
+    kind = "an integer" if integer else "a number"
+    text = f"{kind} in {left}{'-inf' if lo is None else lo}, {'inf' if hi is None else hi}{right}"
+
+    def check(v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            return False
+        if integer and not isinstance(v, int):
+            return False
+        if math.isnan(v) or (math.isinf(v) and not allow_inf):
+            return False
+        if lo is not None and (v < lo or (lo_open and v == lo)):
+            return False
+        if hi is not None and (v > hi or (hi_open and v == hi)):
+            return False
+        return True
+
+    return check, text
+
+
+def _choice(options):
+    return (lambda v: v in options), "one of " + ", ".join(f'"{o}"' for o in options)
+
+
+RULES = {
+    "mechanism": {
+        "crank_length": _num(0, 100, lo_open=True),
+        "rod_length": _num(0, 1000, lo_open=True),
+        "crank_speed": _num(-1e4, 1e4),
+        "guide_distance": _num(0, 1000, lo_open=True),
+    },
+    "beam": {
+        "youngs_modulus": _num(1e6, 1e13),
+        "density": _num(1, 1e5),
+        "width": _num(0, 10, lo_open=True),
+        "height": _num(0, 10, lo_open=True),
+        "modes": _num(1, 200, integer=True),
+        "damping_ratio": _num(0, 1, hi_open=True),
+    },
+    "film": {
+        "model": _choice(FILM_MODELS),
+        "viscosity": _num(0, 1e4, lo_open=True),
+        "clearance": _num(0, 1, lo_open=True),
+        "pad_length": _num(0, 1000, lo_open=True),
+        "pad_reference": _choice(PAD_REFERENCES),
+        "ambient_pressure": _num(0, 1e9),
+        "quadrature_nodes": _num(4, 512, integer=True),
+    },
+    "collar": {"mass": _num(0, 1e6)},
+    "contact": {
+        "law": _choice(CONTACT_LAWS),
+        "restitution": _num(0, 1),
+        "min_film": _num(0, 1),
+        "chatter_interval": _num(0, 1, lo_open=True),
+    },
+    "solver": {
+        "method": _choice(("DOP853", "RK45", "Radau", "BDF", "LSODA", "bulirsch-stoer")),
+        "rtol": _num(1e-13, 0.1),
+        "atol": _num(0, 1, lo_open=True),
+        "t_end": _num(0, 1e5, lo_open=True),
+        "output_step": _num(0, None, lo_open=True),
+        "max_step": _num(0, None, lo_open=True, allow_inf=True),
+        "max_wall_time": _num(0, None, lo_open=True, allow_inf=True),
+    },
+    "output": {
+        "x_points": _num(2, 10001, integer=True),
+        "pad_points": _num(2, 1001, integer=True),
+    },
+}
+
+MAX_SAMPLES = 50_000_000  # time samples x points of u2, ~400 MB of float64
+
+
+def _suggest(name, options):
+    close = difflib.get_close_matches(name, list(options), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _fmt(v):
+    return repr(v) if isinstance(v, str) else str(v)
+
+
+def validate(config: Config) -> Config:
+    """Check every value and their consistency; raise :class:`ConfigError` listing all faults.
+
+    Returns the configuration unchanged when it is valid.
+    """
+    problems = []
+    for section, rules in RULES.items():
+        values = getattr(config, section)
+        for key, (check, text) in rules.items():
+            v = getattr(values, key)
+            if not check(v):
+                problems.append(f"{section}.{key} = {_fmt(v)}: must be {text}")
+    if problems:
+        raise ConfigError(problems)
+
+    m, b, fm, ct, s, o = (config.mechanism, config.beam, config.film, config.contact,
+                          config.solver, config.output)
+    if m.crank_length >= m.rod_length:
+        problems.append(f"mechanism.crank_length = {m.crank_length}: must be shorter than "
+                        f"mechanism.rod_length = {m.rod_length}, or the crank cannot turn")
+    else:
+        from .kinematics import collar_travel
+
+        x_lo, x_hi = collar_travel(m)
+        start = -0.5 * fm.pad_length if fm.pad_reference == "centre" else 0.0
+        first, last = x_lo + start, x_hi + start + fm.pad_length
+        if not (first > 0.0 and last < m.rod_length):
+            problems.append(
+                f"mechanism.guide_distance = {m.guide_distance}: the collar pad (film.pad_length = "
+                f"{fm.pad_length}) spans [{first:.4g}, {last:.4g}] m along the rod over a crank turn; "
+                f"it must stay inside (0, {m.rod_length}) m")
+    if max(b.width, b.height) >= m.rod_length:
+        problems.append(f"beam.height = {b.height}, beam.width = {b.width}: a slender link needs both "
+                        f"much smaller than mechanism.rod_length = {m.rod_length}")
+    if ct.min_film >= 0.5 * fm.clearance:
+        problems.append(f"contact.min_film = {ct.min_film}: must be below half the clearance "
+                        f"(film.clearance / 2 = {0.5 * fm.clearance})")
+    if fm.model == "wedge+squeeze" and ct.min_film <= 0.0:
+        problems.append(f"contact.min_film = {ct.min_film}: must be > 0 with film.model = 'wedge+squeeze' "
+                        "(a squeeze film never closes in finite time)")
+    if m.crank_speed == 0.0:
+        problems.append("mechanism.crank_speed = 0.0: must be non-zero (the paper's crank turns)")
+    if s.output_step >= s.t_end:
+        problems.append(f"solver.output_step = {s.output_step}: must be smaller than solver.t_end = {s.t_end}")
+    elif (s.t_end / s.output_step + 1) * max(o.x_points, o.pad_points, b.modes) > MAX_SAMPLES:
+        problems.append(f"solver.output_step = {s.output_step}: with solver.t_end = {s.t_end} and "
+                        f"output.x_points = {o.x_points} the results would hold more than {MAX_SAMPLES:.0e} "
+                        "values; use a larger output_step")
+    if problems:
+        raise ConfigError(problems)
+    return config
+
+
+# ----------------------------------------------------------------- dicts and TOML
+def to_dict(config: Config) -> dict:
+    """Nested plain dict of a configuration (TOML-ready)."""
+    return asdict(config)
+
+
+def to_toml(config: Config) -> str:
+    """TOML text that :func:`load` reads back to the same configuration."""
+    import tomli_w
+
+    return tomli_w.dumps(to_dict(config))
+
+
+def _coerce(section, key, value, field_type):
+    if field_type in ("float", float) and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    return value
+
+
+def _merge(config: Config, data: dict, origin: str, problems: list) -> Config:
+    sections = {}
+    for section, values in data.items():
+        if section not in SECTION_TYPES:
+            problems.append(f"{origin}: unknown section [{section}]{_suggest(section, SECTION_TYPES)}")
+            continue
+        if not isinstance(values, dict):
+            problems.append(f"{origin}: [{section}] must be a table of keys, got {_fmt(values)}")
+            continue
+        cls = SECTION_TYPES[section]
+        known = {f.name: f.type for f in fields(cls)}
+        updates = {}
+        for key, value in values.items():
+            if key not in known:
+                problems.append(f"{origin}: unknown key {section}.{key}{_suggest(key, known)}")
+                continue
+            updates[key] = _coerce(section, key, value, known[key])
+        sections[section] = replace(getattr(config, section), **updates)
+    return replace(config, **sections)
+
+
+def scenario(name: str) -> Config:
+    """The built-in scenario ``name`` (see :data:`SCENARIOS`), validated."""
+    if name not in SCENARIOS:
+        raise ConfigError([f"scenario = {name!r}: must be one of "
+                           + ", ".join(repr(s) for s in SCENARIOS) + _suggest(name, SCENARIOS)])
+    data = {k: v for k, v in SCENARIOS[name].items() if k != "description"}
+    return validate(_merge(Config(), data, f"scenario {name}", []))
+
+
+def from_dict(data: dict, origin: str = "configuration") -> Config:
+    """Configuration from a nested dict (a parsed TOML document).
+
+    A top-level ``scenario`` key names the base that the sections override;
+    the default base is ``paper``.
+    """
+    data = dict(data)
+    problems = []
+    base_name = data.pop("scenario", "paper")
+    if not isinstance(base_name, str) or base_name not in SCENARIOS:
+        problems.append(f"{origin}: scenario = {_fmt(base_name)}: must be one of "
+                        + ", ".join(repr(s) for s in SCENARIOS) + _suggest(str(base_name), SCENARIOS))
+        base = Config()
+    else:
+        base = scenario(base_name)
+    config = _merge(base, data, origin, problems)
+    if problems:
+        raise ConfigError(problems)
+    return validate(config)
+
+
+def load(path) -> Config:
+    """Read and validate a TOML configuration file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError([f"{path}: cannot read the configuration file ({exc.strerror or exc})"]) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError([f"{path}: not valid TOML ({exc})"]) from None
+    return from_dict(data, origin=str(path))
+
+
+def parse_override(text: str) -> tuple[str, object]:
+    """Split ``"section.key=value"``; the value is read as TOML, else as a string."""
+    if "=" not in text or "." not in text.split("=", 1)[0]:
+        raise ConfigError([f"--set {text!r}: must look like section.key=value, e.g. beam.modes=5"])
+    name, raw = (part.strip() for part in text.split("=", 1))
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return name, value
+
+
+def _apply_overrides(config: Config, overrides: dict) -> Config:
+    nested: dict[str, dict] = {}
+    problems = []
+    for name, value in overrides.items():
+        section, _, key = name.partition(".")
+        if not key:
+            problems.append(f"override {name!r}: must be section.key")
+            continue
+        nested.setdefault(section, {})[key] = value
+    config = _merge(config, nested, "override", problems)
+    if problems:
+        raise ConfigError(problems)
+    return validate(config)
+
+
+def resolve(source="paper", overrides=None) -> Config:
+    """A validated configuration from a scenario name, a TOML path, a dict or a Config.
+
+    Parameters
+    ----------
+    source : str, os.PathLike, dict or Config
+        Scenario name (``"paper"``, ...), path of a TOML file, parsed TOML
+        dict, or a configuration.
+    overrides : dict, optional
+        ``{"section.key": value}`` applied last.
+    """
+    if isinstance(source, Config):
+        config = validate(source)
+    elif isinstance(source, dict):
+        config = from_dict(source)
+    elif isinstance(source, str) and source in SCENARIOS:
+        config = scenario(source)
+    elif isinstance(source, (str, Path)) and (str(source).endswith(".toml") or Path(source).exists()):
+        config = load(source)
+    else:
+        raise ConfigError([f"source = {source!r}: not a scenario ("
+                           + ", ".join(SCENARIOS) + f"), a TOML file, a dict or a Config"
+                           + (_suggest(source, SCENARIOS) if isinstance(source, str) else "")])
+    if overrides:
+        config = _apply_overrides(config, dict(overrides))
+    return config

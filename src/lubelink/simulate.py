@@ -1,0 +1,231 @@
+"""The orchestrator: configuration -> model -> integration with impacts -> Dataset."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import platform
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import beam, film
+from .config import resolve, to_toml
+from .integrate import integrate_segment
+from .model import build_model
+from .results import FORMAT_VERSION, variable
+
+__all__ = ["simulate", "Run", "run"]
+
+#: Impacts allowed in one run before it is declared chattering.
+MAX_IMPACTS = 100_000
+
+
+@dataclass
+class Run:
+    """Raw outcome of :func:`run`: samples, impacts, status and statistics."""
+
+    model: object
+    t: np.ndarray
+    y: np.ndarray
+    status: str = "complete"
+    message: str = "reached solver.t_end"
+    impacts: list = field(default_factory=list)
+    nfev: int = 0
+    nsteps: int = 0
+    wall_time: float = 0.0
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "complete"
+
+
+def run(config, motion=None, progress=None) -> Run:
+    """Integrate a validated configuration, applying impacts as they occur.
+
+    Parameters
+    ----------
+    config : Config
+        Validated configuration.
+    motion : object, optional
+        Motion provider replacing the slider-crank.
+    progress : callable, optional
+        ``progress(t)`` after every solver step.
+
+    Returns
+    -------
+    Run
+        ``status`` is ``"complete"``, or ``"film_breakdown"``, ``"chatter"``,
+        ``"solver_failure"``, ``"timeout"`` with the samples computed so far.
+    """
+    start = time.perf_counter()
+    model = build_model(config, motion)
+    s, ct = config.solver, config.contact
+    deadline = start + s.max_wall_time if np.isfinite(s.max_wall_time) else None
+    n_out = int(np.floor(s.t_end / s.output_step * (1 + 1e-12))) + 1
+    t_eval = np.arange(n_out) * s.output_step
+    monitored = config.film.enabled or ct.law != "none"
+    t, y = 0.0, model.initial_state()
+    ts, ys = [t_eval[:1]], [y[None, :]]
+    out = Run(model=model, t=None, y=None)
+    while True:
+        seg = integrate_segment(model.rhs, t, y, s.t_end, t_eval[t_eval > t], method=s.method,
+                                rtol=s.rtol, atol=s.atol, max_step=s.max_step,
+                                event=model.gap if monitored else None, deadline=deadline,
+                                progress=progress)
+        ts.append(seg.t)
+        ys.append(seg.y)
+        out.nfev += seg.nfev
+        out.nsteps += seg.nsteps
+        t, y = seg.t_final, seg.y_final
+        if seg.status == "finished":
+            break
+        if seg.status == "failed":
+            out.status, out.message = "solver_failure", seg.message
+            break
+        if seg.status == "timeout":
+            out.status = "timeout"
+            out.message = f"{seg.message} (solver.max_wall_time = {s.max_wall_time} s)"
+            break
+        if ct.law == "none":
+            out.status = "film_breakdown"
+            out.message = (f"the film thinned to contact.min_film = {ct.min_film} m at t = {t:.9g} s and "
+                           "contact.law = 'none'; set contact.law = 'restitution' or a larger film.clearance")
+            break
+        y_plus, x_c, v_minus = model.impact(t, y)
+        out.impacts.append((t, x_c, v_minus, y[: model.modes].copy(), y[model.modes:].copy(),
+                            y_plus[model.modes:].copy()))
+        previous = out.impacts[-2][0] if len(out.impacts) > 1 else -np.inf
+        if t - previous < ct.chatter_interval or len(out.impacts) > MAX_IMPACTS:
+            out.status = "chatter"
+            out.message = (f"impacts at t = {previous:.12g} s and {t:.12g} s are closer than "
+                           f"contact.chatter_interval = {ct.chatter_interval} s: the link chatters "
+                           "(sustained contact), which the restitution law cannot resolve")
+            break
+        y = y_plus
+        if t >= s.t_end:
+            break
+    out.t = np.concatenate(ts)
+    out.y = np.concatenate(ys)
+    out.wall_time = time.perf_counter() - start
+    return out
+
+
+def _version(package):
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return "unknown"
+
+
+def to_dataset(result: Run):
+    """Sample a :class:`Run` into the results :class:`xarray.Dataset`."""
+    import xarray as xr
+
+    model = result.model
+    cfg = model.config
+    L = cfg.mechanism.rod_length
+    N = model.modes
+    q, q_dot = result.y[:, :N], result.y[:, N:]
+    x = np.linspace(0.0, L, cfg.output.x_points)
+    kin = model.motion(result.t)
+    data = {
+        "q": variable(("time", "mode"), q, "m", "modal coordinate"),
+        "q_dot": variable(("time", "mode"), q_dot, "m s-1", "modal velocity"),
+        "u2": variable(("time", "x"), beam.deflection(q, x, L), "m", "transverse deflection"),
+        "u2_mid": variable(("time",), beam.deflection(q, np.array([0.5 * L]), L)[:, 0], "m",
+                           "midpoint deflection"),
+        "x_star": variable(("time",), kin.x_star, "m", "collar position along the link"),
+        "V_r": variable(("time",), kin.V_r, "m s-1", "collar velocity relative to the link"),
+        "omega_n": variable(("mode",), model.omega_n, "rad s-1", "natural circular frequency"),
+    }
+    coords = {
+        "time": variable(("time",), result.t, "s", "time"),
+        "x": variable(("x",), x, "m", "position along the link from the crank pin O"),
+        "mode": variable(("mode",), np.arange(1, N + 1), "1", "mode number"),
+    }
+    fm = cfg.film
+    x0 = film.pad_start(np.asarray(kin.x_star), fm.pad_length, fm.pad_reference)
+    if fm.enabled or cfg.contact.law != "none":
+        X_probe = np.linspace(0.0, fm.pad_length, 4 * cfg.output.pad_points)
+        xi = 0.5 * fm.clearance - np.einsum(
+            "tmk,tk->tm", np.sin((x0[:, None] + X_probe)[..., None] * (np.arange(1, N + 1) * np.pi / L)), q)
+        data["film_min"] = variable(("time",), xi.min(axis=1), "m", "thinnest film on the pad (sampled)")
+    if fm.enabled:
+        X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
+        coords["X"] = variable(("X",), X, "m", "position along the pad from its start")
+        p = film.pad_pressure(X, q, q_dot, x0, kin.V_r, mu=fm.viscosity, clearance=fm.clearance,
+                              rod_length=L, squeeze=fm.model == "wedge+squeeze")
+        data["pressure"] = variable(("time", "X"), p, "Pa", "gauge film pressure P - p_am")
+        force = np.array([model.loads(ti, yi)[1] for ti, yi in zip(result.t, result.y)])
+        data["film_force"] = variable(("time",), force, "N", "resultant film force on the link along +j")
+    imp = result.impacts
+    coords["impact"] = variable(("impact",), np.arange(len(imp)), "1", "impact number")
+    data["impact_time"] = variable(("impact",), [i[0] for i in imp], "s", "impact time")
+    data["impact_position"] = variable(("impact",), [i[1] for i in imp], "m", "contact point on the link")
+    data["impact_velocity"] = variable(("impact",), [i[2] for i in imp], "m s-1",
+                                       "normal approach velocity before impact (positive closing)")
+    attrs = {
+        "title": "lubelink simulation of a flexible link with a lubricated prismatic joint",
+        "references": "Marghitu & Guran, The Dynamics of a Flexible Beam With a Lubricated "
+                      "Prismatic Kinematic Pair, J. Vibration and Acoustics; corrected per lubelink MODEL.md",
+        "lubelink_version": _version("lubelink"),
+        "lubelink_format": FORMAT_VERSION,
+        "versions": f"python {platform.python_version()}, numpy {np.__version__}, "
+                    f"scipy {_version('scipy')}, xarray {_version('xarray')}",
+        "config": to_toml(cfg),
+        "status": result.status,
+        "complete": int(result.complete),
+        "message": result.message,
+        "solver_method": cfg.solver.method,
+        "nfev": result.nfev,
+        "nsteps": result.nsteps,
+        "impact_count": len(imp),
+        "wall_time": result.wall_time,
+        "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def simulate(source="paper", set=None, *, motion=None, progress=False):
+    """Run one simulation and return its results.
+
+    Parameters
+    ----------
+    source : str, os.PathLike, dict or Config
+        Scenario name (``"paper"``, ``"paper-dry"``, ``"paper-impact"``), a
+        TOML file, a parsed TOML dict or a :class:`~lubelink.params.Config`.
+    set : dict, optional
+        Overrides ``{"section.key": value}``, e.g. ``{"beam.modes": 5}``.
+    motion : object, optional
+        A motion provider (:mod:`lubelink.kinematics`) replacing the
+        slider-crank.
+    progress : bool or callable
+        ``True`` shows a progress bar on stderr; a callable receives the
+        simulated time after every step.
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`to_dataset`. ``attrs["status"]`` is ``"complete"`` or
+        says why the run stopped early (the samples up to there are kept).
+
+    Raises
+    ------
+    lubelink.ConfigError
+        For invalid parameters, before anything is computed.
+    """
+    config = resolve(source, set)
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        with tqdm(total=config.solver.t_end, unit="s", unit_scale=True, desc="simulating",
+                  leave=False, mininterval=0.25) as bar:
+            def report(t):
+                bar.n = t
+                bar.refresh() if bar.n - bar.last_print_n > 0.01 * bar.total else None
+
+            result = run(config, motion, report)
+    else:
+        result = run(config, motion, progress or None)
+    return to_dataset(result)
