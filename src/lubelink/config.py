@@ -32,6 +32,9 @@ __all__ = [
 #: that the first impact falls at t = 1.273 s (paper Fig. 9); see
 #: ``lubelink.paper.calibrate_clearance`` and docs/paper.md.
 PAPER_IMPACT_CLEARANCE = 5.0e-3
+#: Viscosity of the ``paper-impact`` scenario [Pa s]: with oil (0.01-1 Pa s)
+#: the wedge film never lets the link reach the collar (docs/paper.md).
+PAPER_IMPACT_VISCOSITY = 1.0e-3
 
 #: Built-in scenarios as overrides of the defaults of :mod:`lubelink.params`.
 SCENARIOS: dict[str, dict] = {
@@ -47,7 +50,8 @@ SCENARIOS: dict[str, dict] = {
     },
     "paper-impact": {
         "description": "Film breakdown and impact, e = 0.7 (paper Fig. 9)",
-        "film": {"model": "wedge", "clearance": PAPER_IMPACT_CLEARANCE},
+        "film": {"model": "wedge", "clearance": PAPER_IMPACT_CLEARANCE,
+                 "viscosity": PAPER_IMPACT_VISCOSITY},
         "contact": {"law": "restitution", "restitution": 0.7},
     },
 }
@@ -268,10 +272,18 @@ def from_dict(data: dict, origin: str = "configuration") -> Config:
         base = Config()
     else:
         base = scenario(base_name)
-    config = _merge(base, data, origin, problems)
+    return _validated(_merge(base, data, origin, problems), problems)
+
+
+def _validated(config: Config, problems: list) -> Config:
+    """Validate ``config`` and report its faults together with ``problems`` found earlier."""
+    try:
+        validate(config)
+    except ConfigError as exc:
+        problems = problems + exc.problems
     if problems:
         raise ConfigError(problems)
-    return validate(config)
+    return config
 
 
 def load(path) -> Config:
@@ -309,10 +321,7 @@ def _apply_overrides(config: Config, overrides: dict) -> Config:
             problems.append(f"override {name!r}: must be section.key")
             continue
         nested.setdefault(section, {})[key] = value
-    config = _merge(config, nested, "override", problems)
-    if problems:
-        raise ConfigError(problems)
-    return validate(config)
+    return _validated(_merge(config, nested, "override", problems), problems)
 
 
 def resolve(source="paper", overrides=None) -> Config:

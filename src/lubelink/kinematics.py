@@ -241,11 +241,11 @@ def collar_travel(mechanism: Mechanism, samples: int = 4097):
     from scipy.optimize import minimize_scalar
 
     m = mechanism
-    period = 2.0 * np.pi / m.crank_speed
 
-    def x_of(t):
-        return slider_crank(t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)["x_star"]
+    def x_of(phi):  # x_star depends on the crank angle only: use unit crank speed
+        return slider_crank(phi, m.crank_length, m.rod_length, 1.0, m.guide_distance)["x_star"]
 
+    period = 2.0 * np.pi
     ts = np.linspace(0.0, period, samples)
     xs = x_of(ts)
     dt = ts[1] - ts[0]

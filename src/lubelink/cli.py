@@ -1,0 +1,187 @@
+"""Command-line interface: ``lubelink run | config | scenarios | ...``.
+
+Exit status: 0 success, 1 a run that ended early (its partial results are
+still written, marked as partial), 2 invalid input (one line per problem,
+no traceback), 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+__all__ = ["main"]
+
+EPILOG = """examples:
+  lubelink run                                  the paper's slider-crank (scenario 'paper')
+  lubelink run --scenario paper-impact -o impact.nc
+  lubelink run my.toml --set beam.modes=5 --set film.viscosity=0.2
+  lubelink config --scenario paper-dry          print the full configuration as TOML
+"""
+
+
+class UsageError(Exception):
+    """Bad command-line input, reported as one line per problem with status 2."""
+
+
+def _add_config_args(p):
+    p.add_argument("config", nargs="?", metavar="CONFIG.toml",
+                   help="TOML configuration file (its top-level 'scenario' key names the base; default 'paper')")
+    p.add_argument("--scenario", metavar="NAME",
+                   help="built-in scenario to start from when no CONFIG is given: paper, paper-dry, paper-impact")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                   help="override one parameter, value in TOML syntax (repeatable), e.g. --set beam.modes=5")
+
+
+def build_parser():
+    from . import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="lubelink", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=EPILOG,
+        description="Vibration of a flexible link carrying a lubricated prismatic joint "
+                    "(Marghitu & Guran, corrected and extended).")
+    parser.add_argument("--version", action="version", version=f"lubelink {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = sub.add_parser("run", help="run one simulation and write its results as NetCDF",
+                       description="Run one simulation, print a summary and write the results (NetCDF). "
+                                   "With no arguments it runs the 'paper' scenario.")
+    _add_config_args(p)
+    p.add_argument("-o", "--output", metavar="FILE.nc",
+                   help="results file (default: <scenario or config name>.nc in the current folder)")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE.nc if it exists")
+    p.add_argument("--no-output", action="store_true", help="do not write a results file")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
+
+    p = sub.add_parser("config", help="print the resolved configuration as TOML",
+                       description="Validate a configuration and print it in full as TOML "
+                                   "(a starting point for your own file).")
+    _add_config_args(p)
+
+    sub.add_parser("scenarios", help="list the built-in scenarios", description="List the built-in scenarios.")
+    return parser
+
+
+def _resolve(args):
+    from .config import SCENARIOS, parse_override, resolve
+
+    if args.config and args.scenario:
+        raise UsageError("give either CONFIG.toml or --scenario, not both "
+                         "(a file picks its base with its top-level 'scenario' key)")
+    if args.config and not Path(args.config).is_file():
+        hint = f" (did you mean --scenario {args.config}?)" if args.config in SCENARIOS else ""
+        raise UsageError(f"CONFIG.toml = {args.config!r}: no such file{hint}")
+    overrides = dict(parse_override(text) for text in args.overrides)
+    source = args.config or args.scenario or "paper"
+    return source, resolve(source, overrides)
+
+
+def _summary(ds, source, path):
+    import numpy as np
+
+    cfg_line = ds.attrs["config"]
+    u = np.abs(ds.u2_mid.values)
+    i = int(np.argmax(u)) if u.size else 0
+    rows = [
+        ("source", str(source)),
+        ("status", ds.attrs["status"] + ("" if ds.attrs["status"] == "complete" else f": {ds.attrs['message']}")),
+        ("simulated", f"0 - {float(ds.time[-1]):.4g} s, {ds.sizes['mode']} mode(s), "
+                      f"{ds.sizes['time']} samples"),
+        ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(ds.time[i]):.4f} s"),
+    ]
+    if "pressure" in ds:
+        rows.append(("film", f"thinnest {1e3 * float(ds.film_min.min()):.4f} mm, peak gauge pressure "
+                             f"{1e-3 * float(np.abs(ds.pressure).max()):.4g} kPa, peak force "
+                             f"{float(np.abs(ds.film_force).max()):.4g} N"))
+    n_imp = int(ds.attrs["impact_count"])
+    times = ", ".join(f"{t:.4f}" for t in ds.impact_time.values[:5]) + (" ..." if n_imp > 5 else "")
+    rows.append(("impacts", f"{n_imp}" + (f" (t = {times} s)" if n_imp else "")))
+    rows.append(("solver", f"{ds.attrs['solver_method']}, {ds.attrs['nsteps']} steps, "
+                           f"{ds.attrs['nfev']} right-hand-side evaluations"))
+    rows.append(("wall time", f"{ds.attrs['wall_time']:.3f} s"))
+    if path is not None:
+        rows.append(("wrote", str(path)))
+    del cfg_line
+    width = max(len(k) for k, _ in rows)
+    return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
+
+
+def _cmd_run(args):
+    from . import save
+    from .results import ResultsFileError
+    from .simulate import run, to_dataset
+
+    source, config = _resolve(args)
+    path = None
+    if not args.no_output:
+        path = Path(args.output) if args.output else Path(f"{Path(str(source)).stem}.nc")
+        if path.exists() and not args.overwrite:
+            raise UsageError(f"-o {path}: the file exists; add --overwrite to replace it")
+        if not path.parent.exists():
+            raise UsageError(f"-o {path}: folder {path.parent} does not exist")
+    if args.quiet:
+        result = run(config)
+    else:
+        from tqdm.auto import tqdm
+
+        with tqdm(total=config.solver.t_end, unit="s", desc="simulating", delay=0.5, leave=False,
+                  bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]",
+                  file=sys.stderr) as bar:
+            def report(t):
+                if t - bar.n >= 0.005 * bar.total:
+                    bar.update(t - bar.n)
+
+            result = run(config, progress=report)
+    ds = to_dataset(result)
+    if path is not None:
+        try:
+            save(ds, path, overwrite=args.overwrite)
+        except ResultsFileError as exc:
+            raise UsageError(str(exc)) from None
+    if not args.quiet:
+        print(_summary(ds, source, path))
+    return 0 if result.complete else 1
+
+
+def _cmd_config(args):
+    from .config import to_toml
+
+    _, config = _resolve(args)
+    sys.stdout.write(to_toml(config))
+    return 0
+
+
+def _cmd_scenarios(args):
+    from .config import SCENARIOS
+
+    width = max(map(len, SCENARIOS))
+    for name, spec in SCENARIOS.items():
+        print(f"{name:<{width}}  {spec['description']}")
+    return 0
+
+
+COMMANDS = {"run": _cmd_run, "config": _cmd_config, "scenarios": _cmd_scenarios}
+
+
+def main(argv=None):
+    """Entry point of the ``lubelink`` command; returns the exit status."""
+    from .config import ConfigError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    try:
+        return COMMANDS[args.command](args)
+    except ConfigError as exc:
+        for problem in exc.problems:
+            print(f"lubelink: error: {problem}", file=sys.stderr)
+        return 2
+    except UsageError as exc:
+        print(f"lubelink: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("lubelink: interrupted; nothing was written", file=sys.stderr)
+        return 130

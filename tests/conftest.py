@@ -1,0 +1,17 @@
+import os
+
+import pytest
+from hypothesis import settings
+
+# CI runs a bounded fuzz; `HYPOTHESIS_PROFILE=long pytest` explores more locally.
+settings.register_profile("ci", max_examples=60, deadline=None)
+settings.register_profile("long", max_examples=2000, deadline=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+#: A short run of the paper's mechanism, enough for end-to-end checks.
+SHORT = {"solver.t_end": 0.3, "solver.output_step": 1e-3, "output.x_points": 21, "output.pad_points": 11}
+
+
+@pytest.fixture
+def short():
+    return dict(SHORT)

@@ -1,0 +1,80 @@
+"""Impact law and gap function (MODEL.md section 5) against independent references."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from lubelink import contact
+
+L = 1.0
+
+
+def modal_kinetic(q_dot, mass=1.0):
+    return 0.5 * mass * np.sum(q_dot**2)
+
+
+# MODEL.md section 5, table: only mode 1 moving at 1 m/s, x_c = 0.43 L, e = 0.7.
+TABLE = [(1, -1.700, -0.700), (3, -0.921, -0.667), (5, -0.633, -0.440), (20, -0.154, 1.345), (100, -0.032, 1.000)]
+
+
+@pytest.mark.parametrize("N, dq1, v_mid", TABLE)
+def test_jump_matches_reference_table(N, dq1, v_mid):
+    q_dot = np.zeros(N)
+    q_dot[0] = 1.0
+    v_minus = np.sin(np.pi * 0.43)  # approach velocity at x_c from mode 1
+    after = contact.restitution_jump(q_dot, 0.43, v_minus, 0.7, L)
+    mid = np.sin(np.arange(1, N + 1) * np.pi * 0.5)
+    # the table is printed to 3 decimals
+    assert after[0] - 1.0 == pytest.approx(dq1, abs=6e-4)
+    assert after @ mid == pytest.approx(v_mid, abs=6e-4)
+
+
+@given(N=st.integers(1, 30), x_c=st.floats(0.01, 0.99), e=st.floats(0.0, 1.0),
+       seed=st.integers(0, 2**32 - 1))
+def test_newton_law_energy_and_minimum_norm(N, x_c, e, seed):
+    rng = np.random.default_rng(seed)
+    q_dot = rng.normal(size=N)
+    s = np.sin(np.arange(1, N + 1) * np.pi * x_c)
+    v_minus = s @ q_dot
+    after = contact.restitution_jump(q_dot, x_c, v_minus, e, L)
+    # Newton's law at the contact point (paper Eq. 21 with a collar at rest)
+    assert s @ after == pytest.approx(-e * v_minus, abs=1e-12 * (1 + abs(v_minus)))
+    # energy lost equals the closed form of section 5 (modal mass 1)
+    lost = modal_kinetic(q_dot) - modal_kinetic(after)
+    assert lost == pytest.approx(contact.impact_energy_loss(v_minus, x_c, e, N, 1.0, L), rel=1e-9, abs=1e-12)
+    # the impulse-consistent jump is the minimum-norm one (equal modal masses)
+    jump = np.linalg.lstsq(s[None, :], [-(1 + e) * v_minus], rcond=None)[0]
+    np.testing.assert_allclose(after - q_dot, jump, atol=1e-10 * (1 + abs(v_minus)))
+
+
+@given(N=st.integers(1, 12), x0=st.floats(0.05, 0.9), seed=st.integers(0, 2**32 - 1))
+def test_thinnest_film_against_dense_sampling(N, x0, seed):
+    rng = np.random.default_rng(seed)
+    q = rng.normal(size=N) * 1e-3 / np.arange(1, N + 1) ** 2
+    l, H = 0.05, 6e-3
+    xi_min, x_c, _ = contact.thinnest_film(q, x0, l, H, L)
+    xs = np.linspace(x0, x0 + l, 200001)
+    xi = H / 2 - np.sin(np.outer(xs, np.arange(1, N + 1) * np.pi / L)) @ q
+    # dense sampling at 2.5e-7 m spacing resolves the minimum to ~(spacing)^2 * curvature
+    assert xi_min <= xi.min() + 1e-15
+    assert xi_min == pytest.approx(xi.min(), abs=1e-12)
+    assert x0 - 1e-12 <= x_c <= x0 + l + 1e-12
+
+
+@pytest.mark.parametrize("edge", [True, False])
+def test_approach_velocity_is_minus_gap_rate(edge):
+    # gap(t) = thinnest film with q(t) = q + q_dot t and the pad moving at V
+    N, H, l, V = 3, 6e-3, 0.05, 1.7
+    q_dot = np.array([0.3, -0.05, 0.02])
+    if edge:  # monotone deflection on the pad: the thinnest film is at an edge
+        q, x0 = np.array([2e-3, 1e-4, 0.0]), 0.2
+    else:  # an interior maximum of u2 on the pad
+        q, x0 = np.array([2e-3, 0.0, 0.0]), 0.48
+    xi0, x_c, at_edge = contact.thinnest_film(q, x0, l, H, L)
+    assert at_edge == edge
+    dt = 1e-7
+    gaps = [contact.thinnest_film(q + q_dot * s, x0 + V * s, l, H, L)[0] for s in (-dt, dt)]
+    rate = (gaps[1] - gaps[0]) / (2 * dt)
+    v = contact.approach_velocity(q, q_dot, x_c, V if at_edge else 0.0, L)
+    assert v == pytest.approx(-rate, rel=1e-5)
