@@ -8,10 +8,11 @@ no traceback), 130 interrupted.
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 from pathlib import Path
 
-__all__ = ["main"]
+__all__ = ["main", "resolve_args", "UsageError"]
 
 EPILOG = """examples:
   lubelink run                                  the paper's slider-crank (scenario 'paper')
@@ -19,6 +20,12 @@ EPILOG = """examples:
   lubelink run my.toml --set beam.modes=5 --set film.viscosity=0.2
   lubelink config --scenario paper-dry          print the full configuration as TOML
 """
+
+
+#: Modules that add subcommands: each has ``register_cli(subparsers, add_config_args)``, which adds
+#: its parsers with ``set_defaults(handler=function(args) -> exit status)``; they import heavy
+#: libraries (Matplotlib, Dask) only inside the handlers.
+EXTENSIONS = ("lubelink.paper", "lubelink.sweep")
 
 
 class UsageError(Exception):
@@ -60,10 +67,13 @@ def build_parser():
     _add_config_args(p)
 
     sub.add_parser("scenarios", help="list the built-in scenarios", description="List the built-in scenarios.")
+    for module in EXTENSIONS:
+        importlib.import_module(module).register_cli(sub, _add_config_args)
     return parser
 
 
-def _resolve(args):
+def resolve_args(args):
+    """``(source, Config)`` from the CONFIG/--scenario/--set arguments; raises UsageError or ConfigError."""
     from .config import SCENARIOS, parse_override, resolve
 
     if args.config and args.scenario:
@@ -112,7 +122,7 @@ def _cmd_run(args):
     from .results import ResultsFileError
     from .simulate import run, to_dataset
 
-    source, config = _resolve(args)
+    source, config = resolve_args(args)
     path = None
     if not args.no_output:
         path = Path(args.output) if args.output else Path(f"{Path(str(source)).stem}.nc")
@@ -147,7 +157,7 @@ def _cmd_run(args):
 def _cmd_config(args):
     from .config import to_toml
 
-    _, config = _resolve(args)
+    _, config = resolve_args(args)
     sys.stdout.write(to_toml(config))
     return 0
 
@@ -173,8 +183,9 @@ def main(argv=None):
     if args.command is None:
         parser.print_help()
         return 2
+    handler = COMMANDS.get(args.command) or args.handler
     try:
-        return COMMANDS[args.command](args)
+        return handler(args)
     except ConfigError as exc:
         for problem in exc.problems:
             print(f"lubelink: error: {problem}", file=sys.stderr)
