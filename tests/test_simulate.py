@@ -23,8 +23,9 @@ def test_impacts_happen_where_the_gap_closes(impact_run):
     r = impact_run
     cfg = r.model.config
     assert r.complete and len(r.impacts) >= 2
-    for t, x_c, v_minus, q, q_dot_before, q_dot_after in r.impacts:
-        xi, xc2, edge = r.model.thinnest_film(t, np.concatenate([q, q_dot_before]))
+    for t, x_c, v_minus, v_plus_rec, side, q, q_dot_before, q_dot_after in r.impacts:
+        xi, xc2, edge, side2 = r.model.thinnest_film(t, np.concatenate([q, q_dot_before]))
+        assert side == side2 == 1
         # the event is located on the dense output by Brent's method to ~1e-15 s: the film equals
         # min_film there up to the dense-output error (rtol 1e-8 of a 2.5 mm deflection)
         assert xi == pytest.approx(cfg.contact.min_film, abs=1e-10)
@@ -33,6 +34,7 @@ def test_impacts_happen_where_the_gap_closes(impact_run):
         V_c = float(r.model.motion(t).V_r) if edge else 0.0
         v_plus = contact.approach_velocity(q, q_dot_after, x_c, V_c, 1.0)
         assert v_plus == pytest.approx(-cfg.contact.restitution * v_minus, rel=1e-12, abs=1e-15)
+        assert v_plus_rec == pytest.approx(v_plus, rel=1e-12)
 
 
 def test_event_time_converges_with_tolerance_and_agrees_across_methods(impact_run):

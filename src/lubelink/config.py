@@ -57,7 +57,8 @@ SCENARIOS: dict[str, dict] = {
 }
 
 FILM_MODELS = ("none", "wedge", "wedge+squeeze")
-CONTACT_LAWS = ("none", "restitution")
+CONTACT_LAWS = ("none", "restitution", "compliant")
+CAVITATION = ("none", "half-sommerfeld", "reynolds")
 PAD_REFERENCES = ("edge", "centre")
 
 
@@ -94,7 +95,10 @@ def _num(lo=None, hi=None, lo_open=False, hi_open=False, integer=False, allow_in
 
 
 def _choice(options):
-    return (lambda v: v in options), "one of " + ", ".join(f'"{o}"' for o in options)
+    def check(v):
+        return not isinstance(v, bool) and isinstance(v, (str, int)) and v in options
+
+    return check, "one of " + ", ".join(f'"{o}"' if isinstance(o, str) else str(o) for o in options)
 
 
 RULES = {
@@ -103,6 +107,8 @@ RULES = {
         "rod_length": _num(0, 1000, lo_open=True),
         "crank_speed": _num(-1e4, 1e4),
         "guide_distance": _num(0, 1000, lo_open=True),
+        "gravity": (lambda v: isinstance(v, tuple) and len(v) == 2 and all(_num(-1e3, 1e3)[0](c) for c in v),
+                    "a pair [g_X, g_Y] of numbers in [-1000, 1000] m/s^2"),
     },
     "beam": {
         "youngs_modulus": _num(1e6, 1e13),
@@ -120,6 +126,10 @@ RULES = {
         "pad_reference": _choice(PAD_REFERENCES),
         "ambient_pressure": _num(0, 1e9),
         "quadrature_nodes": _num(4, 512, integer=True),
+        "sides": _choice((1, 2)),
+        "cavitation": _choice(CAVITATION),
+        "cavitation_pressure": _num(0, 1e9),
+        "grid_points": _num(11, 100001, integer=True),
     },
     "collar": {"mass": _num(0, 1e6)},
     "contact": {
@@ -127,6 +137,8 @@ RULES = {
         "restitution": _num(0, 1),
         "min_film": _num(0, 1),
         "chatter_interval": _num(0, 1, lo_open=True),
+        "stiffness": _num(0, 1e16, lo_open=True),
+        "exponent": _num(1, 3),
     },
     "solver": {
         "method": _choice(("DOP853", "RK45", "Radau", "BDF", "LSODA", "bulirsch-stoer")),
@@ -192,6 +204,9 @@ def validate(config: Config) -> Config:
     if ct.min_film >= 0.5 * fm.clearance:
         problems.append(f"contact.min_film = {ct.min_film}: must be below half the clearance "
                         f"(film.clearance / 2 = {0.5 * fm.clearance})")
+    if fm.cavitation != "none" and fm.cavitation_pressure > fm.ambient_pressure:
+        problems.append(f"film.cavitation_pressure = {fm.cavitation_pressure}: must not exceed "
+                        f"film.ambient_pressure = {fm.ambient_pressure}")
     if fm.model == "wedge+squeeze" and ct.min_film <= 0.0:
         problems.append(f"contact.min_film = {ct.min_film}: must be > 0 with film.model = 'wedge+squeeze' "
                         "(a squeeze film never closes in finite time)")
@@ -222,6 +237,8 @@ def to_toml(config: Config) -> str:
 
 
 def _coerce(section, key, value, field_type):
+    if field_type in ("tuple", tuple) and isinstance(value, list):
+        return tuple(float(c) if isinstance(c, int) and not isinstance(c, bool) else c for c in value)
     if field_type in ("float", float) and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
     return value

@@ -15,6 +15,7 @@ __all__ = [
     "approach_velocity",
     "restitution_jump",
     "impact_energy_loss",
+    "lankarani_nikravesh",
 ]
 
 
@@ -120,3 +121,31 @@ def impact_energy_loss(v_minus, x_c, restitution, modes, mass, rod_length):
     """
     s = np.sin(np.arange(1, modes + 1) * np.pi / rod_length * x_c)
     return 0.5 * (1.0 - restitution**2) * mass / (s @ s) * v_minus**2
+
+
+def lankarani_nikravesh(delta, delta_dot, v_minus, stiffness, exponent, restitution):
+    """Compliant contact force [N] (Lankarani & Nikravesh 1990, J. Mech. Des. 112).
+
+    ``F = K delta^n (1 + 3 (1 - e^2)/4 * delta_dot / v_minus)``, clipped at 0
+    (no adhesion).
+
+    Parameters
+    ----------
+    delta : float
+        Penetration [m] (> 0 in contact).
+    delta_dot : float
+        Penetration rate [m/s].
+    v_minus : float
+        Approach velocity when the contact began [m/s]; the damping term is
+        dropped for a grazing contact (``v_minus <= 0``).
+    stiffness : float
+        ``K`` [N/m^n].
+    exponent : float
+        ``n`` [-].
+    restitution : float
+        ``e`` [-].
+    """
+    if delta <= 0.0:
+        return 0.0
+    damping = 0.75 * (1.0 - restitution**2) * delta_dot / v_minus if v_minus > 0.0 else 0.0
+    return max(stiffness * delta**exponent * (1.0 + damping), 0.0)

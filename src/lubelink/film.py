@@ -35,7 +35,10 @@ __all__ = [
     "pad_start",
     "modal_force",
     "pad_pressure",
+    "mode_film",
+    "mode_film_rate",
     "pressure_on_breaks",
+    "reynolds_cavitation",
     "gauss_legendre",
 ]
 
@@ -49,14 +52,17 @@ def gauss_legendre(nodes):
 
 @lru_cache(maxsize=32)
 def _integration_matrix(nodes):
-    """``S[i, j] = int_0^{s_i} l_j(s) ds`` for the Lagrange basis on GL nodes of [0, 1]."""
+    """``S[i, j] = int_0^{s_i} l_j(s) ds`` for the Lagrange basis on GL nodes of [0, 1].
+
+    Built in the Legendre basis, which stays well conditioned for many nodes
+    (a monomial construction loses all digits beyond about 20 nodes).
+    """
+    leg = np.polynomial.legendre
     s, _ = gauss_legendre(nodes)
-    S = np.empty((nodes, nodes))
-    for j in range(nodes):
-        others = np.delete(s, j)
-        basis = np.polynomial.Polynomial.fromroots(others) / np.prod(s[j] - others)
-        S[:, j] = basis.integ()(s)
-    return S
+    z = 2.0 * s - 1.0
+    V = leg.legvander(z, nodes - 1)
+    V_int = np.column_stack([leg.legval(z, leg.legint(np.eye(nodes)[j], lbnd=-1.0)) for j in range(nodes)])
+    return 0.5 * V_int @ np.linalg.inv(V)
 
 
 def pad_start(x_star, pad_length, pad_reference="edge"):
@@ -87,7 +93,8 @@ def _as_function(values, X, name):
     return CubicSpline(X, values)
 
 
-def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, subintervals=32, nodes=8):
+def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, cavitation="none", p_cav=-101325.0,
+             subintervals=32, nodes=8, grid_points=401):
     """Gauge pressure of the 1-D Reynolds film [Pa] (paper Eqs. 16-17, corrected).
 
     Solves ``(xi^3 p')' = 6 mu V_r xi' + 12 mu xi_t`` on ``[0, l]`` with
@@ -112,9 +119,19 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, subintervals=32, nod
         form as ``xi``. Omitted: the paper's wedge-only film.
     pad_length : float, optional
         ``l`` [m]; defaults to ``X[-1]``.
+    cavitation : {"none", "half-sommerfeld", "reynolds"}
+        ``"none"``: the full Sommerfeld solution (sub-ambient pressure
+        allowed, as in the paper); ``"half-sommerfeld"``: that solution
+        clipped at ``p_cav``; ``"reynolds"``: the Swift-Stieber condition
+        (``p >= p_cav`` with ``p = p_cav`` and ``p' = 0`` at rupture), by
+        :func:`reynolds_cavitation` on ``grid_points`` points.
+    p_cav : float
+        Cavitation pressure as a **gauge** pressure, ``p_cav - p_am`` [Pa].
     subintervals, nodes : int
         Composite quadrature: ``[0, l]`` is split into ``subintervals``
         pieces (and at every point of ``X``), each with ``nodes`` GL nodes.
+    grid_points : int
+        Grid of the ``"reynolds"`` solver.
 
     Returns
     -------
@@ -139,6 +156,16 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, subintervals=32, nod
         raise ValueError(f"X must lie in [0, pad_length = {length}]")
     xi_f = _as_function(xi, X, "xi")
     xi_t_f = None if xi_t is None else _as_function(xi_t, X, "xi_t")
+    if cavitation not in ("none", "half-sommerfeld", "reynolds"):
+        raise ValueError(f"cavitation = {cavitation!r}: must be 'none', 'half-sommerfeld' or 'reynolds'")
+    if cavitation == "reynolds":
+        grid = np.linspace(0.0, length, grid_points)
+        mid = 0.5 * (grid[1:] + grid[:-1])
+        xi_mid = np.asarray(xi_f(mid), dtype=float)
+        if np.any(~np.isfinite(xi_mid)) or np.any(xi_mid <= 0):
+            raise ValueError("the film thickness xi must be finite and positive on the whole pad")
+        xi_t_g = np.zeros_like(grid) if xi_t_f is None else np.asarray(xi_t_f(grid), dtype=float)
+        return np.interp(X, grid, reynolds_cavitation(grid, xi_mid, xi_t_g, V_r, mu, p_cav))
 
     breaks = np.unique(np.concatenate([np.linspace(0.0, length, subintervals + 1), np.clip(X, 0, length)]))
     s, _ = gauss_legendre(nodes)
@@ -148,7 +175,72 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, subintervals=32, nod
         raise ValueError("the film thickness xi must be finite and positive on the whole pad")
     xi_t_v = None if xi_t_f is None else np.asarray(xi_t_f(pts), dtype=float)
     p_breaks = pressure_on_breaks(breaks, xi_v, V_r, mu, xi_t_v)
+    if cavitation == "half-sommerfeld":
+        p_breaks = np.maximum(p_breaks, p_cav)
     return np.interp(X, breaks, p_breaks)
+
+
+def reynolds_cavitation(grid, xi_mid, xi_t, V_r, mu, p_cav, max_iter=200):
+    """Film pressure with the Swift-Stieber (Reynolds) cavitation condition [Pa, gauge].
+
+    Solves the obstacle problem ``p >= p_cav``, ``A p - f >= 0``,
+    ``(p - p_cav)(A p - f) = 0`` for the conservative finite-volume form of
+    ``-(xi^3 p')' = -(6 mu V_r xi' + 12 mu xi_t)`` with ``p = 0`` at both
+    ends. ``A`` is a symmetric tridiagonal M-matrix, for which the
+    primal-dual active-set method (Hintermueller, Ito & Kunisch 2003,
+    SIAM J. Optim. 13) terminates in finitely many steps; each step is one
+    banded solve. At the rupture boundary the discrete solution has
+    ``p = p_cav`` with a vanishing gradient, which is Swift-Stieber.
+
+    Parameters
+    ----------
+    grid : ndarray, shape ``(M + 1,)``
+        Uniform pad grid from 0 to ``l`` [m].
+    xi_mid : ndarray, shape ``(M,)``
+        Film thickness at the cell midpoints [m].
+    xi_t : ndarray, shape ``(M + 1,)``
+        ``d xi/dt`` at fixed link points, at the grid points [m/s].
+    V_r : float
+        Collar velocity relative to the link [m/s].
+    mu : float
+        Viscosity [Pa s].
+    p_cav : float
+        Cavitation pressure, gauge [Pa] (``<= 0``).
+
+    Returns
+    -------
+    ndarray, shape ``(M + 1,)``
+    """
+    from scipy.linalg import solve_banded
+
+    h = grid[1] - grid[0]
+    a = xi_mid**3 / h**2
+    diag = a[:-1] + a[1:]
+    off = -a[1:-1]
+    f = -(6.0 * mu * V_r * (xi_mid[1:] - xi_mid[:-1]) / h + 12.0 * mu * xi_t[1:-1])
+    n = diag.size
+
+    def apply(p):
+        out = diag * p
+        out[:-1] += off * p[1:]
+        out[1:] += off * p[:-1]
+        return out
+
+    active = np.zeros(n, dtype=bool)
+    p = np.zeros(n)
+    for _ in range(max_iter):
+        ab = np.zeros((3, n))
+        ab[1] = np.where(active, 1.0, diag)
+        ab[0, 1:] = np.where(active[:-1], 0.0, off)
+        ab[2, :-1] = np.where(active[1:], 0.0, off)
+        rhs = np.where(active, p_cav, f)
+        p = solve_banded((1, 1), ab, rhs)
+        lam = np.where(active, apply(p) - f, 0.0)
+        new_active = lam - diag * (p - p_cav) > 0.0
+        if np.array_equal(new_active, active):
+            break
+        active = new_active
+    return np.concatenate([[0.0], np.maximum(p, p_cav), [0.0]])
 
 
 def pressure_on_breaks(breaks, xi_nodes, V_r, mu, xi_t_nodes=None):
@@ -180,7 +272,7 @@ def pressure_on_breaks(breaks, xi_nodes, V_r, mu, xi_t_nodes=None):
 
 
 def modal_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_length,
-                squeeze=False, nodes=32):
+                squeeze=False, nodes=32, cavitation="none", p_cav=-101325.0, grid_points=201):
     """Modal film forces ``F_n`` [N] and the resultant film force on the link [N].
 
     ``F_n = -B int_pad p_g sin(beta_n x) dx`` (MODEL.md section 2, film
@@ -200,6 +292,14 @@ def modal_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_leng
         Include the ``12 mu xi_t`` term.
     nodes : int
         Gauss-Legendre nodes on the pad.
+    cavitation : {"none", "half-sommerfeld", "reynolds"}
+        See :func:`pressure`. ``"none"`` integrates by parts (needs only
+        ``p'``); ``"half-sommerfeld"`` integrates the pressure at the nodes
+        (spectral integration matrix) and clips it; ``"reynolds"`` solves
+        :func:`reynolds_cavitation` on ``grid_points`` and integrates by the
+        trapezoidal rule.
+    p_cav : float
+        Gauge cavitation pressure [Pa].
 
     Returns
     -------
@@ -208,32 +308,48 @@ def modal_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_leng
     total : float
         Resultant force on the link along +j [N].
     xi_min : float
-        Smallest film thickness at the nodes [m].
+        Smallest film thickness at the quadrature points [m].
     """
+    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
+    if cavitation == "reynolds":
+        grid = np.linspace(0.0, pad_length, grid_points)
+        mid = 0.5 * (grid[1:] + grid[:-1])
+        xi_mid = 0.5 * clearance - np.sin(np.outer(x0 + mid, beta)) @ q
+        sin_g = np.sin(np.outer(x0 + grid, beta))
+        xi_t = -(sin_g @ q_dot) if squeeze else np.zeros_like(grid)
+        p = reynolds_cavitation(grid, xi_mid, xi_t, V_r, mu, p_cav)
+        hp = (grid[1] - grid[0]) * p  # trapezoid: p vanishes at both ends
+        return -width * (hp @ sin_g), -width * hp.sum(), xi_mid.min()
     s, w = gauss_legendre(nodes)
     X = pad_length * s
     wX = pad_length * w
-    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
     cos0 = np.cos(beta * x0)
-    cosX = np.cos(np.outer(x0 + X, beta))  # (nodes, N)
-    sinX = np.sin(np.outer(x0 + X, beta))
+    sinX = np.sin(np.outer(x0 + X, beta))  # (nodes, N)
     xi = 0.5 * clearance - sinX @ q
-    inv3 = xi**-3
-    flux = 6.0 * mu * V_r * xi
-    I1 = wX @ (xi**-2)
-    I2 = wX @ inv3
-    W = (cos0 - cosX) / beta  # int_0^X sin(beta (x0 + s)) ds
-    if squeeze:
-        Q = -(W @ q_dot)  # int_0^X xi_t, xi_t = -u2_dot
-        I3 = wX @ (Q * inv3)
-        C = -(6.0 * mu * V_r * I1 + 12.0 * mu * I3) / I2
-        flux = flux + 12.0 * mu * Q
-    else:
-        C = -6.0 * mu * V_r * I1 / I2
-    dp = (flux + C) * inv3  # p_g'
-    F = width * ((wX * dp) @ W)
-    total = width * (wX @ (dp * X))
-    return F, total, xi.min()
+    inv2, inv3 = xi**-2, xi**-3
+    W = (cos0 - np.cos(np.outer(x0 + X, beta))) / beta  # int_0^X sin(beta (x0 + s)) ds
+    Q = -(W @ q_dot) if squeeze else np.zeros_like(X)  # int_0^X xi_t, xi_t = -u2_dot
+    I1, I2, I3 = wX @ inv2, wX @ inv3, wX @ (Q * inv3)
+    C = -(6.0 * mu * V_r * I1 + 12.0 * mu * I3) / I2
+    if cavitation == "none":
+        dp = (6.0 * mu * V_r * xi + 12.0 * mu * Q + C) * inv3  # p_g'
+        return width * ((wX * dp) @ W), width * (wX @ (dp * X)), xi.min()
+    S = pad_length * _integration_matrix(nodes)  # cumulative integrals at the nodes
+    p = 6.0 * mu * V_r * (S @ inv2) + C * (S @ inv3) + 12.0 * mu * (S @ (Q * inv3))
+    p = np.maximum(p, p_cav)
+    return -width * ((wX * p) @ sinX), -width * (wX @ p), xi.min()
+
+
+def mode_film(q, x0, clearance, rod_length):
+    """The one-sided film ``xi(X) = H/2 - u2(x0 + X)`` of modal state ``q`` as a function [m]."""
+    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
+    return lambda X: 0.5 * clearance - np.sin(np.multiply.outer(x0 + np.asarray(X), beta)) @ q
+
+
+def mode_film_rate(q_dot, x0, rod_length):
+    """``d xi/dt = -u2_dot(x0 + X)`` at fixed link points, as a function [m/s]."""
+    beta = np.arange(1, q_dot.shape[-1] + 1) * np.pi / rod_length
+    return lambda X: -(np.sin(np.multiply.outer(x0 + np.asarray(X), beta)) @ q_dot)
 
 
 def pad_pressure(X, q, q_dot, x0, V_r, *, mu, clearance, rod_length, squeeze=False, nodes=8):

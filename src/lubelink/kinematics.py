@@ -157,6 +157,11 @@ class SliderCrank:
         k = self._kin(t)
         return -mass * k["Y_ddot"] / k["cos_theta"]
 
+    def link_angle(self, t):
+        """Angle of the link axis ``i`` about +k from +X [rad]: ``-theta``."""
+        m = self.mechanism
+        return -np.arcsin(m.crank_length / m.rod_length * np.sin(m.crank_speed * np.asarray(t, dtype=float)))
+
     @property
     def period(self) -> float:
         """Crank period [s]."""
@@ -174,6 +179,9 @@ class PrescribedMotion:
     reaction : callable, optional
         Force of the collar on the link along +j [N] as a function of time;
         zero if omitted.
+    angle : callable, optional
+        Angle of the link axis about +k from the fixed +X axis [rad], used
+        only to resolve gravity; zero (horizontal link) if omitted.
     """
 
     A_O2: Callable
@@ -182,6 +190,11 @@ class PrescribedMotion:
     x_star: Callable
     V_r: Callable
     reaction: Callable | None = None
+    angle: Callable | None = None
+
+    def link_angle(self, t):
+        t = np.asarray(t, dtype=float)
+        return np.zeros_like(t) if self.angle is None else np.broadcast_to(np.asarray(self.angle(t), float), t.shape)
 
     def __call__(self, t) -> RigidMotion:
         t = np.asarray(t, dtype=float)

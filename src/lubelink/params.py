@@ -38,12 +38,17 @@ class Mechanism:
     guide_distance : float
         Horizontal distance of the collar's vertical guide from the fixed
         crank pivot [m] (``a``).
+    gravity : tuple of float
+        Gravitational acceleration in the fixed mechanism frame ``(X, Y)``
+        [m/s^2]; ``(0, -9.81)`` for a vertical mechanism plane with the
+        slider line horizontal. Default: none, as in the paper.
     """
 
     crank_length: float = 0.07
     rod_length: float = 1.0
     crank_speed: float = 10.0 * math.pi
     guide_distance: float = 0.4
+    gravity: tuple = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -91,7 +96,8 @@ class Film:
     Attributes
     ----------
     model : str
-        ``"none"`` (dry joint) or ``"wedge"`` (paper Eq. 16).
+        ``"none"`` (dry joint), ``"wedge"`` (paper Eq. 16) or
+        ``"wedge+squeeze"`` (adds the ``12 mu d(xi)/dt`` term).
     viscosity : float
         Dynamic viscosity [Pa s] (``mu``).
     clearance : float
@@ -106,6 +112,17 @@ class Film:
         loads the link, so this value matters for cavitation only.
     quadrature_nodes : int
         Gauss-Legendre nodes on the pad for the film integrals [-].
+    sides : int
+        1: one film, on the +j side of the link (paper); 2: a collar that
+        encloses the link, films ``H/2 - u2`` and ``H/2 + u2``.
+    cavitation : str
+        ``"none"`` (paper: sub-ambient pressure allowed), ``"half-sommerfeld"``
+        (gauge pressure clipped at ``p_cav - p_am``) or ``"reynolds"``
+        (Swift-Stieber: pressure and its gradient vanish at rupture).
+    cavitation_pressure : float
+        Absolute cavitation pressure [Pa] (``p_cav``).
+    grid_points : int
+        Grid points on the pad for the ``"reynolds"`` cavitation solver [-].
     """
 
     model: str = "wedge"
@@ -115,6 +132,10 @@ class Film:
     pad_reference: str = "edge"
     ambient_pressure: float = 101325.0
     quadrature_nodes: int = 32
+    sides: int = 1
+    cavitation: str = "none"
+    cavitation_pressure: float = 0.0
+    grid_points: int = 201
 
     @property
     def enabled(self) -> bool:
@@ -141,20 +162,26 @@ class Contact:
     Attributes
     ----------
     law : str
-        ``"restitution"`` (paper Eq. 21, instantaneous modal velocity jump)
-        or ``"none"`` (the gap is not monitored).
+        ``"restitution"`` (paper Eq. 21, instantaneous modal velocity jump),
+        ``"compliant"`` (Lankarani-Nikravesh force law) or ``"none"``.
     restitution : float
         Coefficient of restitution [-] (``e``).
     min_film : float
         Film thickness at which the film breaks down [m] (``xi_min``).
     chatter_interval : float
         Impacts closer in time than this end the run as chattering [s].
+    stiffness : float
+        Contact stiffness of the compliant law [N/m^exponent] (``K``).
+    exponent : float
+        Exponent of the compliant law [-] (``n``; 1.5 Hertzian).
     """
 
     law: str = "none"
     restitution: float = 0.7
     min_film: float = 5.0e-6
     chatter_interval: float = 1.0e-6
+    stiffness: float = 1.0e10
+    exponent: float = 1.5
 
 
 @dataclass(frozen=True)

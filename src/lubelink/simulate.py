@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import importlib.metadata
 import platform
 import time
@@ -12,7 +13,7 @@ import numpy as np
 from . import beam, film
 from .config import resolve, to_toml
 from .integrate import integrate_segment
-from .model import build_model
+from .model import ContactPhase, build_model
 from .results import FORMAT_VERSION, variable
 
 __all__ = ["simulate", "Run", "run"]
@@ -41,7 +42,13 @@ class Run:
 
 
 def run(config, motion=None, progress=None) -> Run:
-    """Integrate a validated configuration, applying impacts as they occur.
+    """Integrate a validated configuration, handling film breakdown as it occurs.
+
+    The integration proceeds in segments between events of the gap function
+    (thinnest film minus ``contact.min_film``): with the restitution law a
+    segment ends at an impact, the modal velocities jump and the next
+    segment starts; with the compliant law the contact force is switched on
+    from the crossing until the film reopens.
 
     Parameters
     ----------
@@ -57,10 +64,14 @@ def run(config, motion=None, progress=None) -> Run:
     Run
         ``status`` is ``"complete"``, or ``"film_breakdown"``, ``"chatter"``,
         ``"solver_failure"``, ``"timeout"`` with the samples computed so far.
+        ``impacts`` holds one tuple ``(t, x_c, v_minus, v_plus, side, q,
+        q_dot_before, q_dot_after)`` per impact (compliant contact: ``t`` is
+        the start, ``v_plus`` the approach velocity when it ends).
     """
     start = time.perf_counter()
     model = build_model(config, motion)
     s, ct = config.solver, config.contact
+    N = model.modes
     deadline = start + s.max_wall_time if np.isfinite(s.max_wall_time) else None
     n_out = int(np.floor(s.t_end / s.output_step * (1 + 1e-12))) + 1
     t_eval = np.arange(n_out) * s.output_step
@@ -68,11 +79,16 @@ def run(config, motion=None, progress=None) -> Run:
     t, y = 0.0, model.initial_state()
     ts, ys = [t_eval[:1]], [y[None, :]]
     out = Run(model=model, t=None, y=None)
+    phase = None  # compliant contact in progress
     while True:
-        seg = integrate_segment(model.rhs, t, y, s.t_end, t_eval[t_eval > t], method=s.method,
+        if phase is None:
+            fun, event = model.rhs, (model.gap if monitored else None)
+        else:
+            fun = functools.partial(model.rhs, phase=phase)
+            event = lambda t_, y_: -model.gap(t_, y_)  # noqa: E731  the film reopens
+        seg = integrate_segment(fun, t, y, s.t_end, t_eval[t_eval > t], method=s.method,
                                 rtol=s.rtol, atol=s.atol, max_step=s.max_step,
-                                event=model.gap if monitored else None, deadline=deadline,
-                                progress=progress)
+                                event=event, deadline=deadline, progress=progress)
         ts.append(seg.t)
         ys.append(seg.y)
         out.nfev += seg.nfev
@@ -90,17 +106,29 @@ def run(config, motion=None, progress=None) -> Run:
         if ct.law == "none":
             out.status = "film_breakdown"
             out.message = (f"the film thinned to contact.min_film = {ct.min_film} m at t = {t:.9g} s and "
-                           "contact.law = 'none'; set contact.law = 'restitution' or a larger film.clearance")
+                           "contact.law = 'none'; set contact.law = 'restitution' or 'compliant', or a "
+                           "larger film.clearance")
             break
-        y_plus, x_c, v_minus = model.impact(t, y)
-        out.impacts.append((t, x_c, v_minus, y[: model.modes].copy(), y[model.modes:].copy(),
-                            y_plus[model.modes:].copy()))
+        if ct.law == "compliant":
+            v, x_c, side = model.approach(t, y)
+            if phase is None:
+                phase = ContactPhase(side=side, v_minus=v)
+                out.impacts.append([t, x_c, v, np.nan, side, y[:N].copy(), y[N:].copy(), None])
+            else:
+                out.impacts[-1][3] = v
+                out.impacts[-1][7] = y[N:].copy()
+                phase = None
+            continue
+        y_plus, x_c, v_minus, side = model.impact(t, y)
+        v_plus = -ct.restitution * v_minus if v_minus > 0 else v_minus
+        out.impacts.append([t, x_c, v_minus, v_plus, side, y[:N].copy(), y[N:].copy(), y_plus[N:].copy()])
         previous = out.impacts[-2][0] if len(out.impacts) > 1 else -np.inf
         if t - previous < ct.chatter_interval or len(out.impacts) > MAX_IMPACTS:
             out.status = "chatter"
             out.message = (f"impacts at t = {previous:.12g} s and {t:.12g} s are closer than "
                            f"contact.chatter_interval = {ct.chatter_interval} s: the link chatters "
-                           "(sustained contact), which the restitution law cannot resolve")
+                           "(sustained contact), which the restitution law cannot resolve; "
+                           "try contact.law = 'compliant'")
             break
         y = y_plus
         if t >= s.t_end:
@@ -148,23 +176,47 @@ def to_dataset(result: Run):
     x0 = film.pad_start(np.asarray(kin.x_star), fm.pad_length, fm.pad_reference)
     if fm.enabled or cfg.contact.law != "none":
         X_probe = np.linspace(0.0, fm.pad_length, 4 * cfg.output.pad_points)
-        xi = 0.5 * fm.clearance - np.einsum(
-            "tmk,tk->tm", np.sin((x0[:, None] + X_probe)[..., None] * (np.arange(1, N + 1) * np.pi / L)), q)
+        u_pad = np.einsum("tmk,tk->tm",
+                          np.sin((x0[:, None] + X_probe)[..., None] * (np.arange(1, N + 1) * np.pi / L)), q)
+        xi = 0.5 * fm.clearance - np.abs(u_pad) if fm.sides == 2 else 0.5 * fm.clearance - u_pad
         data["film_min"] = variable(("time",), xi.min(axis=1), "m", "thinnest film on the pad (sampled)")
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
         coords["X"] = variable(("X",), X, "m", "position along the pad from its start")
-        p = film.pad_pressure(X, q, q_dot, x0, kin.V_r, mu=fm.viscosity, clearance=fm.clearance,
-                              rod_length=L, squeeze=fm.model == "wedge+squeeze")
-        data["pressure"] = variable(("time", "X"), p, "Pa", "gauge film pressure P - p_am")
-        force = np.array([model.loads(ti, yi)[1] for ti, yi in zip(result.t, result.y)])
+        squeeze = fm.model == "wedge+squeeze"
+        p_cav = fm.cavitation_pressure - fm.ambient_pressure
+        p = []
+        for side in model.sides:
+            if fm.cavitation == "reynolds":
+                grid_X = np.linspace(0.0, fm.pad_length, fm.grid_points)
+                p_side = np.array([np.interp(X, grid_X, film.pressure(
+                    grid_X, film.mode_film(side * qi, x0i, fm.clearance, L), Vi, fm.viscosity,
+                    xi_t=film.mode_film_rate(side * qdi, x0i, L) if squeeze else None,
+                    cavitation="reynolds", p_cav=p_cav, grid_points=fm.grid_points))
+                    for qi, qdi, x0i, Vi in zip(q, q_dot, x0, kin.V_r)])
+            else:
+                p_side = film.pad_pressure(X, side * q, side * q_dot, x0, kin.V_r, mu=fm.viscosity,
+                                           clearance=fm.clearance, rod_length=L, squeeze=squeeze)
+                if fm.cavitation == "half-sommerfeld":
+                    p_side = np.maximum(p_side, p_cav)
+            p.append(p_side)
+        data["pressure"] = variable(("time", "X"), p[0], "Pa", "gauge film pressure P - p_am "
+                                    "(film at H/2 - u2, the paper's)")
+        if len(p) == 2:
+            data["pressure_lower"] = variable(("time", "X"), p[1], "Pa",
+                                              "gauge film pressure of the film at H/2 + u2")
+        force = np.array([model.film_loads(ti, yi)[1] for ti, yi in zip(result.t, result.y)])
         data["film_force"] = variable(("time",), force, "N", "resultant film force on the link along +j")
     imp = result.impacts
     coords["impact"] = variable(("impact",), np.arange(len(imp)), "1", "impact number")
-    data["impact_time"] = variable(("impact",), [i[0] for i in imp], "s", "impact time")
+    data["impact_time"] = variable(("impact",), [i[0] for i in imp], "s", "impact time (contact start)")
     data["impact_position"] = variable(("impact",), [i[1] for i in imp], "m", "contact point on the link")
     data["impact_velocity"] = variable(("impact",), [i[2] for i in imp], "m s-1",
                                        "normal approach velocity before impact (positive closing)")
+    data["impact_velocity_after"] = variable(("impact",), [i[3] for i in imp], "m s-1",
+                                             "normal approach velocity after impact (negative opening)")
+    data["impact_side"] = variable(("impact",), np.array([i[4] for i in imp], dtype=int), "1",
+                                   "film side of the contact")
     attrs = {
         "title": "lubelink simulation of a flexible link with a lubricated prismatic joint",
         "references": "Marghitu & Guran, The Dynamics of a Flexible Beam With a Lubricated "
