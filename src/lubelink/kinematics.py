@@ -197,9 +197,11 @@ class PrescribedMotion:
         return np.zeros_like(t) if self.angle is None else np.broadcast_to(np.asarray(self.angle(t), float), t.shape)
 
     def __call__(self, t) -> RigidMotion:
+        functions = (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r)
+        if np.ndim(t) == 0:
+            return RigidMotion(*(float(f(t)) for f in functions))
         t = np.asarray(t, dtype=float)
-        return RigidMotion(*(np.broadcast_to(np.asarray(f(t), float), t.shape) for f in
-                             (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r)))
+        return RigidMotion(*(np.broadcast_to(np.asarray(f(t), float), t.shape) for f in functions))
 
     def joint_reaction(self, t, mass):
         t = np.asarray(t, dtype=float)

@@ -85,7 +85,7 @@ class Model:
             total += side * total_s
         return F, total
 
-    def contact_force(self, t, y, phase: ContactPhase):
+    def contact_force(self, t, y, phase: ContactPhase, kin=None):
         """Modal force [N] and magnitude [N] of the compliant (Lankarani-Nikravesh) contact.
 
         ``F = K delta^n (1 + 3 (1 - e^2)/4 * delta_dot / v_minus)``, ``delta``
@@ -96,11 +96,12 @@ class Model:
         N = self.modes
         L = self.config.mechanism.rod_length
         side = phase.side
-        xi, x_c, at_edge = self._thinnest(t, side * y[:N])
+        kin = self.motion(t) if kin is None else kin
+        xi, x_c, at_edge = self._thinnest(t, side * y[:N], kin)
         delta = ct.min_film - xi
         if delta <= 0.0:
             return np.zeros(N), 0.0
-        V_c = float(self.motion(t).V_r) if at_edge else 0.0
+        V_c = float(kin.V_r) if at_edge else 0.0
         delta_dot = contact.approach_velocity(side * y[:N], side * y[N:], x_c, V_c, L)
         force = contact.lankarani_nikravesh(delta, delta_dot, phase.v_minus, ct.stiffness, ct.exponent,
                                             ct.restitution)
@@ -117,16 +118,17 @@ class Model:
             R = float(self.motion.joint_reaction(t, cfg.collar.mass))
             F = F + beam.project_point_load(R, float(kin.x_star), N, L)
         if phase is not None:
-            F = F + self.contact_force(t, y, phase)[0]
+            F = F + self.contact_force(t, y, phase, kin)[0]
         A_eff = float(kin.A_O2) - self.gravity_j(t)
         forcing = beam.rigid_forcing(A_eff, float(kin.alpha), N, L) + F / self.modal_mass
         q_ddot = beam.modal_acceleration(y[:N], y[N:], self.omega_n, cfg.beam.damping_ratio,
                                          float(kin.omega), forcing)
         return np.concatenate([y[N:], q_ddot])
 
-    def _thinnest(self, t, q_side):
+    def _thinnest(self, t, q_side, kin=None):
         fm = self.config.film
-        x0 = film.pad_start(float(self.motion(t).x_star), fm.pad_length, fm.pad_reference)
+        kin = self.motion(t) if kin is None else kin
+        x0 = film.pad_start(float(kin.x_star), fm.pad_length, fm.pad_reference)
         return contact.thinnest_film(q_side, x0, fm.pad_length, fm.clearance, self.config.mechanism.rod_length)
 
     def thinnest_film(self, t, y):

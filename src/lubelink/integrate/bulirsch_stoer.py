@@ -51,13 +51,16 @@ central differences (stride ``2 h_j``) of the stored ``f`` values around the
 midpoint, extrapolated over the sequences that reach far enough, give
 ``H^kappa y^(kappa)(t_mid)`` for ``kappa = 1 ... mu`` with ``mu = 2k - 3``.
 The interpolant is the polynomial of degree ``mu + 4`` that also matches
-``y`` and ``H f`` at both ends of the step. Its local error is
-``O(H^(2k+1))``, like the step itself (order ``2k >= 6`` once ``k >= 3``;
-``k = 2`` gives order 4). The difference to the interpolant of one degree
-less estimates the interpolation error, and steps whose interpolation error
-exceeds ten times the tolerance are rejected, as in ODEX. No function
-evaluations are added: the ``f`` values are those of the midpoint sequences,
-and ``f(t1, y1)`` is reused as ``f0`` of the next step.
+``y`` and ``H f`` at both ends of the step. Its local error is ``O(H^(2k))``,
+one power of ``H`` less than the step's (the midpoint values, at odd grid
+indices, carry an error term that does not vanish at ``t0``): measured
+slopes 4.1 for ``k = 2`` and 6.0 for ``k = 3``, so the interpolant is of
+order ``2k - 1 >= 5`` once ``k >= 3``. The difference to the interpolant of
+one degree less estimates the interpolation error, and a step whose
+estimate exceeds ten times the tolerance is rejected, as in ODEX; this
+keeps the dense output within a small multiple of the tolerance at any
+order. No function evaluations are added: the ``f`` values are those of the
+midpoint sequences, and ``f(t1, y1)`` is reused as ``f0`` of the next step.
 
 References
 ----------
@@ -265,6 +268,11 @@ class BulirschStoer(OdeSolver):
     rtol=1e-10, atol=1e-12, dense_output=True, events=...)``; integration in
     either time direction is supported.
 
+    At high order the steps are long (a few per oscillation period). Event
+    detection by sign changes at step ends (``solve_ivp``'s way) then misses
+    an event function that crosses zero twice within one step; bound
+    ``max_step`` where that matters.
+
     Parameters
     ----------
     fun : callable
@@ -287,7 +295,7 @@ class BulirschStoer(OdeSolver):
         Whether ``fun`` is vectorized (only passed to the base class).
     max_order : int, optional
         Maximal number of extrapolation columns ``k`` (method order ``2k``),
-        at least 3. Default 9.
+        from 3 to 12. Default 9 (as ODEX).
     fixed_order : int, optional
         Use exactly ``k = fixed_order`` columns in every step (no order
         control; the step size is still controlled if ``adaptive``).
@@ -330,7 +338,7 @@ class BulirschStoer(OdeSolver):
         if not max_step > 0:
             raise ValueError(f"`max_step` must be positive, got {max_step!r}.")
         self.max_step = max_step
-        self.max_order = _validate_order(max_order, "max_order", 3, 30)
+        self.max_order = _validate_order(max_order, "max_order", 3, 12)
         self.adaptive = bool(adaptive)
         low = 2 if self.adaptive else 1
         self.fixed_order = (None if fixed_order is None
