@@ -247,7 +247,7 @@ def mechanisms(draw):
     return Mechanism(crank_length=OA, rod_length=L, crank_speed=w0, guide_distance=a)
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])  # examples: the profile (conftest)
 @given(m=mechanisms(), phase=st.floats(0.0, 2 * math.pi))
 def test_collar_point_is_under_guide_random_mechanisms(m, phase):
     """For any valid mechanism the rod point at x_star (module) has X = a, lies on the rod,

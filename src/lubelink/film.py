@@ -93,6 +93,10 @@ def _as_function(values, X, name):
     return CubicSpline(X, values)
 
 
+def _positive(*films):
+    return all(np.all(np.isfinite(f)) and np.all(np.asarray(f) > 0) for f in films)
+
+
 def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, cavitation="none", p_cav=-101325.0,
              subintervals=32, nodes=8, grid_points=401):
     """Gauge pressure of the 1-D Reynolds film [Pa] (paper Eqs. 16-17, corrected).
@@ -154,6 +158,9 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, cavitation="none", p
     length = float(X[-1]) if pad_length is None else float(pad_length)
     if not length > 0 or X[0] < 0 or X[-1] > length * (1 + 1e-12):
         raise ValueError(f"X must lie in [0, pad_length = {length}]")
+    sampled = not callable(xi) or (xi_t is not None and not callable(xi_t))
+    if sampled and (X[0] != 0.0 or X[-1] < length * (1 - 1e-12)):
+        raise ValueError(f"xi or xi_t given as values at X needs X to run from 0 to pad_length = {length}")
     xi_f = _as_function(xi, X, "xi")
     xi_t_f = None if xi_t is None else _as_function(xi_t, X, "xi_t")
     if cavitation not in ("none", "half-sommerfeld", "reynolds"):
@@ -162,7 +169,7 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, cavitation="none", p
         grid = np.linspace(0.0, length, grid_points)
         mid = 0.5 * (grid[1:] + grid[:-1])
         xi_mid = np.asarray(xi_f(mid), dtype=float)
-        if np.any(~np.isfinite(xi_mid)) or np.any(xi_mid <= 0):
+        if not _positive(xi_mid, xi_f(grid)):
             raise ValueError("the film thickness xi must be finite and positive on the whole pad")
         xi_t_g = np.zeros_like(grid) if xi_t_f is None else np.asarray(xi_t_f(grid), dtype=float)
         return np.interp(X, grid, reynolds_cavitation(grid, xi_mid, xi_t_g, V_r, mu, p_cav))
@@ -171,7 +178,7 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, cavitation="none", p
     s, _ = gauss_legendre(nodes)
     pts = breaks[:-1, None] + np.diff(breaks)[:, None] * s
     xi_v = np.asarray(xi_f(pts), dtype=float)
-    if np.any(~np.isfinite(xi_v)) or np.any(xi_v <= 0):
+    if not _positive(xi_v, xi_f(breaks)):  # the pad ends and X are not GL nodes
         raise ValueError("the film thickness xi must be finite and positive on the whole pad")
     xi_t_v = None if xi_t_f is None else np.asarray(xi_t_f(pts), dtype=float)
     p_breaks = pressure_on_breaks(breaks, xi_v, V_r, mu, xi_t_v)
@@ -310,6 +317,7 @@ def modal_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_leng
     xi_min : float
         Smallest film thickness at the quadrature points [m].
     """
+    q, q_dot = np.asarray(q, dtype=float), np.asarray(q_dot, dtype=float)
     beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
     if cavitation == "reynolds":
         grid = np.linspace(0.0, pad_length, grid_points)

@@ -76,6 +76,8 @@ def run(config, motion=None, progress=None) -> Run:
     n_out = int(np.floor(s.t_end / s.output_step * (1 + 1e-12))) + 1
     t_eval = np.arange(n_out) * s.output_step
     monitored = config.film.enabled or ct.law != "none"
+    # the gap moves on the time scale of the fastest mode: sample it at least 8 times a period
+    event_resolution = 2.0 * np.pi / model.omega_n[-1] / 8.0
     t, y = 0.0, model.initial_state()
     ts, ys = [t_eval[:1]], [y[None, :]]
     out = Run(model=model, t=None, y=None)
@@ -88,7 +90,8 @@ def run(config, motion=None, progress=None) -> Run:
             event = lambda t_, y_: -model.gap(t_, y_)  # noqa: E731  the film reopens
         seg = integrate_segment(fun, t, y, s.t_end, t_eval[t_eval > t], method=s.method,
                                 rtol=s.rtol, atol=s.atol, max_step=s.max_step,
-                                event=event, deadline=deadline, progress=progress)
+                                event=event, event_resolution=event_resolution, deadline=deadline,
+                                progress=progress)
         ts.append(seg.t)
         ys.append(seg.y)
         out.nfev += seg.nfev

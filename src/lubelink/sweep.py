@@ -15,6 +15,7 @@ piece                       job
 :func:`summarise`           one results Dataset -> summary quantities
 :func:`run_sweep`           run the missing points on Dask, store, return all
 :func:`load_sweep`          the stored results as an ``xarray.Dataset``
+:func:`point_config`        the ``Config`` of one stored point (to run it again)
 :func:`plot_sweep`          response map (heat map, curves, facets)
 ==========================  =================================================
 
@@ -49,6 +50,7 @@ import time
 import tomllib
 import uuid
 from dataclasses import dataclass, fields, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -66,6 +68,7 @@ __all__ = [
     "run_sweep",
     "sweep",
     "load_sweep",
+    "point_config",
     "plot_sweep",
     "register_cli",
 ]
@@ -119,6 +122,8 @@ FAILED_STATUSES = ("film_breakdown", "chatter", "solver_failure", "timeout", "er
 _TOP_KEYS = ("base", "description", "invalid_points", "set", "vary", "points", "store")
 _STORE_KEYS = ("quantities", "time_series", "max_impacts")
 _RANGE_KEYS = ("start", "stop", "num", "scale")
+#: Largest sweep accepted (each point is validated and held in memory by the client).
+MAX_POINTS = 10_000_000
 JOURNAL = "journal.jsonl"
 LOCK = "lock"
 #: Seconds between folds of the journal into the Zarr arrays.
@@ -286,9 +291,10 @@ class Sweep:
         """The sweep as a TOML-ready dict, with the base configuration resolved in full."""
         from .config import to_dict
 
-        data = {"base": self.base, "vary": {a.name: list(a.values) for a in self.axes},
-                "store": {"quantities": list(self.quantities), "time_series": list(self.time_series),
-                          "max_impacts": self.max_impacts}}
+        store = {"quantities": list(self.quantities), "time_series": list(self.time_series)}
+        if "impact_times" in self.quantities:
+            store["max_impacts"] = self.max_impacts
+        data = {"base": self.base, "vary": {a.name: list(a.values) for a in self.axes}, "store": store}
         if self.fixed:
             data["set"] = {k: list(v) if isinstance(v, tuple) else v for k, v in self.fixed.items()}
         if self.point_rows:
@@ -296,7 +302,7 @@ class Sweep:
         data["base_config"] = to_dict(self.base_config)
         return data
 
-    @property
+    @cached_property
     def hash(self) -> str:
         """SHA-256 of the resolved base configuration, the grid and the stored quantities."""
         data = self.definition()
@@ -311,7 +317,7 @@ class Sweep:
 
         data = self.definition()
         data.pop("base_config")
-        return tomli_w.dumps(_finite(data))
+        return tomli_w.dumps(data)
 
     # ------------------------------------------------------------ points
     def point_configs(self, progress=None):
@@ -356,17 +362,6 @@ class Sweep:
         lines.append(f"{self.origin}: {len(invalid)} of {self.size} points are invalid; fix the "
                      "ranges, or set invalid_points = \"record\" to store them as failed points")
         return lines
-
-
-def _finite(obj):
-    """Replace non-finite floats (which TOML writers reject) by strings."""
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return str(obj)
-    return obj
 
 
 def read_sweep(source) -> Sweep:
@@ -448,6 +443,9 @@ def _parse(data, origin, root) -> Sweep:
         point_names, point_rows = _points(data["points"], params, fixed, {a.name for a in axes}, problems)
     if not axes and not point_rows and not problems:
         problems.append(f"{origin}: nothing to sweep: give [vary] parameters or [[points]]")
+    size = math.prod(len(a.values) for a in axes) * max(1, len(point_rows))
+    if size > MAX_POINTS:
+        problems.append(f"{origin}: {size:.3g} points: more than {MAX_POINTS:.0e}; split the sweep")
 
     # ---- store
     store = data.get("store", {})
@@ -493,7 +491,7 @@ def _parse(data, origin, root) -> Sweep:
         except ConfigError as exc:
             problems.extend(f"{origin}: base {base!r} with [set]: {p}" for p in exc.problems)
     if problems:
-        raise ConfigError(problems)
+        raise ConfigError([p if p.startswith(f"{origin}: ") else f"{origin}: {p}" for p in problems])
     return Sweep(base=base, base_config=base_config, fixed=fixed, axes=tuple(axes),
                  point_names=point_names, point_rows=point_rows, quantities=tuple(quantities),
                  time_series=tuple(series), max_impacts=max_impacts, invalid_points=policy,
@@ -1162,6 +1160,35 @@ def load_sweep(path):
     return ds
 
 
+def point_config(results, point):
+    """The validated :class:`~lubelink.params.Config` of one point of a sweep's results.
+
+    Parameters
+    ----------
+    results : xarray.Dataset or path
+        Results of :func:`run_sweep` (or a store path).
+    point : dict
+        ``{dimension: value}`` for every swept dimension (``point`` takes the
+        point number), e.g. ``{"film.viscosity": 0.1, "mechanism.crank_speed": 30.0}``.
+
+    Example: ``lubelink.simulate(point_config(ds, {...}))`` runs that point again
+    with its full results.
+    """
+    from .config import from_dict, resolve
+
+    ds = results if hasattr(results, "data_vars") else load_sweep(results)
+    dims = ds.attrs["swept_dims"].split()
+    missing = [d for d in dims if d not in point]
+    if missing or set(point) - set(dims):
+        raise SweepError(f"point {point}: give exactly one value for each of " + ", ".join(dims))
+    try:
+        one = ds.sel(point)
+    except KeyError as exc:
+        raise SweepError(f"point {point}: no such value {exc}") from None
+    overrides = {str(c.attrs["parameter"]): c.values.item() for c in one.coords.values() if "parameter" in c.attrs}
+    return resolve(from_dict(tomllib.loads(ds.attrs["base_config"])), overrides)
+
+
 def _check_format(path, attrs):
     version = str(attrs.get("lubelink_sweep_format", ""))
     if not version:
@@ -1541,7 +1568,13 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
         title += "  (" + ", ".join(f"{d} = {_fmt(sub[d].item()) if d in sub.coords else v}"
                                    for d, v in select.items()) + ")"
 
-    fig = fig or plt.figure(figsize=(7.0, 4.8) if len(free) < 3 else (4.0 * min(sub.sizes[free[2]], 4), 3.6 * math.ceil(sub.sizes[free[2]] / 4)))
+    panels = [None] if len(free) < 3 else list(range(sub.sizes[free[2]]))
+    if len(panels) > 16:
+        raise SweepError(f"{free[2]} has {len(panels)} values, too many panels: fix it with --select "
+                         f"{free[2]}=VALUE, or another dimension")
+    ncols = min(len(panels), 4)
+    nrows = math.ceil(len(panels) / ncols)
+    fig = fig or plt.figure(figsize=(7.0, 4.8) if len(free) < 3 else (3.6 * ncols + 1.0, 3.0 * nrows + 0.6))
     if len(free) == 1:
         ax = fig.add_subplot()
         x, ticks, log = _axis_values(sub, free[0], False)
@@ -1562,9 +1595,6 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
         ax.grid(True, alpha=0.3)
         return fig
 
-    panels = [None] if len(free) == 2 else list(range(sub.sizes[free[2]]))
-    ncols = min(len(panels), 4)
-    nrows = math.ceil(len(panels) / ncols)
     finite = data[np.isfinite(data)]
     vmin, vmax = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
     cmap = plt.get_cmap("viridis", len(categories)) if categories else "viridis"

@@ -54,20 +54,35 @@ class Segment:
     extra: dict = field(default_factory=dict)
 
 
-def _locate(event, sol, t_lo, t_hi, g_lo):
-    """Root of ``event(t, sol(t))`` in ``[t_lo, t_hi]`` (bracketed)."""
+def _first_crossing(event, sol, t_old, g_old, t_new, g_new, n_sub):
+    """First time in ``(t_old, t_new]`` where ``event`` falls to zero or below, or None.
+
+    The event is sampled on ``n_sub`` equal sub-intervals of the step (on the
+    dense output), so a dip that starts and ends inside one long step is
+    still seen; the first bracket is then refined by Brent's method.
+    """
+    if not g_old > 0.0:  # started at or below zero: the crossing is the start itself
+        return t_old
+
     def g(t):
         return event(t, sol(t))
 
-    g_hi = g(t_hi)
-    if g_hi == 0.0:
-        return t_hi
-    return brentq(g, t_lo, t_hi, xtol=4 * np.finfo(float).eps * max(1.0, abs(t_hi)),
-                  rtol=4 * np.finfo(float).eps, maxiter=200)
+    ts = np.linspace(t_old, t_new, n_sub + 1)
+    lo = t_old
+    for t in ts[1:]:
+        g_t = g_new if t == t_new else g(t)
+        if not g_t > 0.0:
+            if g_t == 0.0:
+                return t
+            return brentq(g, lo, t, xtol=4 * np.finfo(float).eps * max(1.0, abs(t)),
+                          rtol=4 * np.finfo(float).eps, maxiter=200)
+        lo = t
+    return None
 
 
 def integrate_segment(fun, t0, y0, t_end, t_eval, *, method="DOP853", rtol=1e-8, atol=1e-12,
-                      max_step=np.inf, first_step=None, event=None, deadline=None, progress=None):
+                      max_step=np.inf, first_step=None, event=None, event_resolution=None,
+                      deadline=None, progress=None):
     """Integrate ``dy/dt = fun(t, y)`` from ``t0`` until ``t_end`` or a terminal event.
 
     Parameters
@@ -86,6 +101,10 @@ def integrate_segment(fun, t0, y0, t_end, t_eval, *, method="DOP853", rtol=1e-8,
     event : callable, optional
         ``event(t, y) -> float``; the segment ends where it crosses zero
         from positive to non-positive.
+    event_resolution : float, optional
+        Longest time between two samples of ``event`` [s]: longer steps are
+        sampled inside on their dense output, so that a zero crossing and
+        return within one step is not missed.
     deadline : float, optional
         ``time.perf_counter()`` value after which the run stops.
     progress : callable, optional
@@ -124,16 +143,15 @@ def integrate_segment(fun, t0, y0, t_end, t_eval, *, method="DOP853", rtol=1e-8,
         t_stop = t_new
         if event is not None:
             g_new = event(t_new, y_new)
-            if not g_new > 0.0:
+            n_sub = 1
+            if event_resolution is not None and t_new - t_old > event_resolution:
+                n_sub = int(np.ceil((t_new - t_old) / event_resolution))
+            if n_sub > 1 or not g_new > 0.0:
                 sol = solver.dense_output()
-                t_mid = 0.5 * (t_old + t_new)
-                g_mid = event(t_mid, sol(t_mid))
-                lo, g_lo, hi = (t_old, g_old, t_mid) if g_mid <= 0.0 else (t_mid, g_mid, t_new)
-                if not g_lo > 0.0:  # started at or below zero: the root is at the start
-                    t_stop = t_old
-                else:
-                    t_stop = _locate(event, sol, lo, hi, g_lo)
-                status, message = "event", f"event at t = {t_stop:.12g} s"
+                crossing = _first_crossing(event, sol, t_old, g_old, t_new, g_new, max(n_sub, 2))
+                if crossing is not None:
+                    t_stop = crossing
+                    status, message = "event", f"event at t = {t_stop:.12g} s"
             g_old = g_new
         j = np.searchsorted(t_eval, t_stop, side="right")
         if j > i_eval:

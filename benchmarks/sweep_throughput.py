@@ -1,0 +1,139 @@
+"""Throughput of ``lubelink sweep``: points per second on 1 and 2 Dask workers, and the overhead per point.
+
+The sweep: the ``paper`` scenario over ``mechanism.crank_speed`` (20 values, 25-40 rad/s) x
+``film.viscosity`` (``--points / 20`` values, 0.05-0.2 Pa s), 200 points by default. It is run
+
+1. serially in this process, calling the same per-point function the workers call (simulation,
+   results Dataset, summary): the baseline, the cost of the simulations themselves;
+2. with :func:`lubelink.sweep.run_sweep` on a ``LocalCluster`` of N worker processes (one thread
+   each) for each N of ``--workers``, into a fresh Zarr store.
+
+Each cluster is started and warmed (imports, one tiny simulation per worker) before its timing
+starts: worker start-up is paid once per cluster, not per point. Reported per run:
+
+* points/s and speed-up over the serial baseline;
+* overhead per point = (wall time x workers - serial time) / points: the worker-time each point
+  costs beyond its simulation (scheduling, transfers, storing, and on a machine with as many cores
+  as workers the client and scheduler competing with the workers);
+* client CPU per point: CPU time of this process (client and scheduler threads) per point.
+
+Usage::
+
+    python benchmarks/sweep_throughput.py                     # 200 points of 2 s (long: ~25 min on 2 cores)
+    python benchmarks/sweep_throughput.py --t-end 0.5         # shorter simulations
+    python benchmarks/sweep_throughput.py --points 40 --workers 1,2,4
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+
+def sweep_definition(points, t_end):
+    if points % 20:
+        raise SystemExit("--points must be a multiple of 20")
+    return {
+        "base": "paper",
+        "set": {"solver.t_end": t_end},
+        "vary": {"mechanism.crank_speed": {"start": 25.0, "stop": 40.0, "num": 20},
+                 "film.viscosity": {"start": 0.05, "stop": 0.2, "num": points // 20}},
+        "store": {"quantities": ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure",
+                                 "min_film", "peak_film_force"]},
+    }
+
+
+def warm_up():
+    """Import everything a point needs and run one tiny simulation (in a worker)."""
+    import lubelink
+    from lubelink.sweep import summarise
+
+    summarise(lubelink.simulate("paper", set={"solver.t_end": 0.01, "output.x_points": 5}))
+    return os.getpid()
+
+
+def serial(sp):
+    from lubelink.sweep import _compute_point, _TaskOptions
+
+    configs, invalid = sp.point_configs()
+    assert not invalid
+    opts = _TaskOptions(sp.quantities, (), sp.max_impacts, 0, sp.base_config.solver.output_step, "serial")
+    warm_up()
+    t0 = time.perf_counter()
+    sim = 0.0
+    for flat, config in configs.items():
+        record, _ = _compute_point(flat, config, opts)
+        sim += record["wall_time"]
+    return time.perf_counter() - t0, sim
+
+
+def on_cluster(sp, workers, folder):
+    from distributed import Client, LocalCluster
+
+    from lubelink.sweep import run_sweep
+
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        client.run(warm_up)
+        store = Path(folder) / f"w{workers}.zarr"
+        cpu0, t0 = time.process_time(), time.perf_counter()
+        ds = run_sweep(sp, store, client=client, progress=False)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+        assert bool(ds.done.all())
+        failed = int((ds.status != "complete").sum())
+        shutil.rmtree(store)
+    return wall, cpu, failed
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--points", type=int, default=200, help="points in the sweep (multiple of 20)")
+    parser.add_argument("--t-end", type=float, default=2.0, help="simulated time per point [s] (default 2)")
+    parser.add_argument("--workers", default="1,2", help="comma-separated worker counts (default 1,2)")
+    args = parser.parse_args(argv)
+
+    from lubelink.sweep import read_sweep
+
+    sp = read_sweep(sweep_definition(args.points, args.t_end))
+    counts = [int(w) for w in args.workers.split(",")]
+    print(f"{args.points} points of the 'paper' scenario, {args.t_end:g} s each; "
+          f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.2f} at start", flush=True)
+
+    t_serial, t_sim = serial(sp)
+    n = sp.size
+    print(f"serial baseline: {t_serial:.1f} s ({1e3 * t_serial / n:.1f} ms per point, of which "
+          f"{1e3 * t_sim / n:.1f} ms in the simulation itself)", flush=True)
+    rows = [("serial, in-process", "-", t_serial, n / t_serial, 1.0, 0.0, float("nan"), 0)]
+    with tempfile.TemporaryDirectory() as folder:
+        for w in counts:
+            wall, cpu, failed = on_cluster(sp, w, folder)
+            rows.append((f"run_sweep, LocalCluster", str(w), wall, n / wall, t_serial / wall,
+                         1e3 * (wall * w - t_serial) / n, 1e3 * cpu / n, failed))
+            print(f"{w} worker(s): {wall:.1f} s", flush=True)
+
+    head = ("mode", "workers", "wall [s]", "points/s", "speed-up", "overhead/point [ms]",
+            "client CPU/point [ms]", "failed points")
+    table = [head] + [(r[0], r[1], f"{r[2]:.1f}", f"{r[3]:.3f}", f"{r[4]:.2f}",
+                       f"{r[5]:.1f}" if r[1] != "-" else "-",
+                       f"{r[6]:.2f}" if r[1] != "-" else "-", str(r[7])) for r in rows]
+    widths = [max(len(row[i]) for row in table) for i in range(len(head))]
+    print()
+    for i, row in enumerate(table):
+        print("  ".join(cell.ljust(wd) for cell, wd in zip(row, widths)))
+        if i == 0:
+            print("  ".join("-" * wd for wd in widths))
+    by_workers = {r[1]: r[2] for r in rows}
+    if "1" in by_workers and "2" in by_workers:
+        print(f"\n2 workers / 1 worker: {by_workers['1'] / by_workers['2']:.2f}x")
+    print(f"load average at end {os.getloadavg()[0]:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,387 @@
+"""Parameter sweeps on Dask: the sweep file, a real LocalCluster, failing points, kill and resume.
+
+The cluster tests share one ``LocalCluster(n_workers=2, processes=True, threads_per_worker=1)``
+and one reference sweep of 12 tiny simulations (0.1 s of motion, 5 output points), of which the
+4 with a water-like viscosity at the higher crank speeds end in film breakdown.
+"""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lubelink
+from lubelink import ConfigError
+from lubelink.cli import main as cli_main
+from lubelink.sweep import (SweepError, _compute_point, _empty_record, _Store, _TaskOptions, load_sweep,
+                            point_config, read_sweep, run_sweep, summarise)
+
+distributed = pytest.importorskip("distributed")
+pytest.importorskip("zarr")
+xr = pytest.importorskip("xarray")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+TINY = {"solver.t_end": 0.1, "output.x_points": 5, "output.pad_points": 5}
+QUANTITIES = ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
+              "peak_film_force", "end_time"]
+
+#: 2 x 3 x 2 = 12 points; viscosity 1 mPa s breaks down at 30 and 40 rad/s (4 failing points).
+SWEEP_TOML = """
+base = "paper"
+description = "test sweep"
+
+[set]
+"solver.t_end" = 0.1
+"output.x_points" = 5
+"output.pad_points" = 5
+
+[vary]
+"film.viscosity" = [0.001, 0.1]
+mechanism.crank_speed = { start = 20.0, stop = 40.0, num = 3 }
+"film.clearance" = { start = 1e-3, stop = 3e-3, num = 2, scale = "log" }
+
+[store]
+quantities = ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
+              "peak_film_force", "end_time"]
+time_series = ["u2_mid"]
+"""
+
+
+def sweep_dict(**vary):
+    return {"base": "paper", "set": dict(TINY), "vary": vary}
+
+
+def ends(trace):
+    """Flat indices of the points whose computation ended, in the order of the trace file."""
+    if not Path(trace).exists():
+        return []
+    return [int(line.split()[4]) for line in Path(trace).read_text().splitlines() if line.split()[2] == "end"]
+
+
+def same_results(a, b):
+    """Equal stored results (wall_time and run history excepted) of the same sweep."""
+    assert a.attrs["sweep_hash"] == b.attrs["sweep_hash"]
+    xr.testing.assert_equal(a.drop_vars("wall_time"), b.drop_vars("wall_time"))
+
+
+# ====================================================================== the sweep file
+def test_lists_ranges_and_points_make_a_labelled_grid():
+    sp = read_sweep({
+        "base": "paper-impact",
+        "set": {"solver": {"t_end": 0.5}},
+        "vary": {"mechanism.crank_speed": {"start": 10, "stop": 60, "num": 6},
+                 "film": {"viscosity": {"start": 1e-3, "stop": 1e-1, "num": 3, "scale": "log"}},
+                 "beam.modes": [1, 3.0]},
+        "points": [{"contact.restitution": 0.5, "film.model": "wedge"},
+                   {"contact.restitution": 0.9, "film.model": "wedge+squeeze"}],
+    })
+    assert sp.dims == ("mechanism.crank_speed", "film.viscosity", "beam.modes", "point")
+    assert sp.shape == (6, 3, 2, 2) and sp.size == 72
+    assert sp.axes[0].values == (10.0, 20.0, 30.0, 40.0, 50.0, 60.0)
+    assert sp.axes[1].values[0] == 1e-3 and sp.axes[1].values[2] == 1e-1
+    assert sp.axes[1].values[1] == pytest.approx(1e-2, rel=1e-12) and sp.axes[1].scale == "log"
+    assert sp.axes[2].values == (1, 3) and all(type(v) is int for v in sp.axes[2].values)
+    assert sp.base_config.solver.t_end == 0.5 and sp.base_config.contact.law == "restitution"
+    last = sp.overrides(sp.size - 1)
+    assert last == {"mechanism.crank_speed": 60.0, "film.viscosity": 0.1, "beam.modes": 3,
+                    "contact.restitution": 0.9, "film.model": "wedge+squeeze"}
+    columns = read_sweep({"base": "paper-impact", "set": {"solver.t_end": 0.5},
+                          "vary": {"mechanism.crank_speed": {"start": 10, "stop": 60, "num": 6},
+                                   "film.viscosity": {"start": 1e-3, "stop": 1e-1, "num": 3, "scale": "log"},
+                                   "beam.modes": [1, 3]},
+                          "points": {"contact.restitution": [0.5, 0.9], "film.model": ["wedge", "wedge+squeeze"]}})
+    assert columns.hash == sp.hash  # the same grid written as columns
+    assert read_sweep({**sweep_dict(**{"film.viscosity": [0.1, 0.2]}), "description": "x"}).hash \
+        == read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]})).hash
+    assert read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.3]})).hash \
+        != read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]})).hash
+
+
+@pytest.mark.parametrize("data, needle", [
+    ({"vary": {"film.viscositty": [0.1]}}, "did you mean 'film.viscosity'"),
+    ({"vary": {"film.viscosity": {"start": 0.1, "stop": 1.0}}}, "vary.\"film.viscosity\": a range needs num"),
+    ({"vary": {"film.viscosity": {"start": 0.0, "stop": 1.0, "num": 3, "scale": "log"}}}, "needs start > 0"),
+    ({"vary": {"film.viscosity": {"start": 0.1, "stop": 1.0, "num": 3, "scale": "logarithmic"}}},
+     "vary.\"film.viscosity\".scale = 'logarithmic'"),
+    ({"vary": {"film.viscosity": [0.1, 0.1]}}, "appears twice"),
+    ({"vary": {"film.viscosity": []}}, "empty list"),
+    ({"vary": {"film.viscosity": ["thick"]}}, "vary.\"film.viscosity\"[0] = 'thick': must be a number"),
+    ({"vary": {"beam.modes": {"start": 1, "stop": 2, "num": 3}}}, "beam.modes is an integer"),
+    ({"vary": {"mechanism.gravity": [[0, -9.81]]}}, "cannot be swept"),
+    ({"vary": {"film.viscosity": [0.1]}, "set": {"film.viscosity": 0.2}}, "also given in [set]"),
+    ({"vary": {"film.viscosity": [0.1]}, "store": {"quantities": ["peak_u2"]}}, "did you mean 'peak_u2_mid'"),
+    ({"vary": {"solver.t_end": [0.1, 0.2]}, "store": {"time_series": ["u2_mid"]}}, "no common time axis"),
+    ({"vary": {"beam.modes": [1, 2]}, "store": {"time_series": ["q"]}}, "q needs beam.modes fixed"),
+    ({"vary": {"film.viscosity": [0.1]}, "stor": {}}, "unknown key 'stor' (did you mean 'store'?)"),
+    ({"base": "papper", "vary": {"film.viscosity": [0.1]}}, "did you mean 'paper'"),
+    ({"vary": {"film.viscosity": [0.1]}, "set": {"beam.modes": 0}}, "beam.modes = 0"),
+    ({"points": [{"film.viscosity": 0.1}, {"film.clearance": 1e-3}]}, "every point must set the same"),
+    ({}, "nothing to sweep"),
+])
+def test_bad_sweep_files_are_refused_naming_the_key(data, needle):
+    with pytest.raises(ConfigError) as err:
+        read_sweep(data)
+    assert any(needle in p for p in err.value.problems), err.value.problems
+
+
+def test_every_invalid_point_is_reported_before_anything_runs(tmp_path):
+    # contact.min_film must stay below film.clearance / 2: 2 of the 6 points break that rule.
+    data = sweep_dict(**{"contact.min_film": [1e-6, 4e-3], "film.clearance": [3e-3, 6e-3, 1e-2]})
+    with pytest.raises(ConfigError) as err:
+        run_sweep(data, tmp_path / "r.zarr")
+    text = "\n".join(err.value.problems)
+    assert "contact.min_film=0.004, film.clearance=0.003" in text and "2 of 6 points are invalid" in text
+    assert not (tmp_path / "r.zarr").exists()
+
+
+def test_summary_quantities_of_one_run():
+    ds = lubelink.simulate("paper-impact", set={"solver.t_end": 0.7, "output.x_points": 5})
+    s = summarise(ds, ("peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
+                       "peak_film_force", "end_time", "nfev", "impact_times"), max_impacts=4)
+    assert s["status"] == "complete" and s["impact_count"] == ds.attrs["impact_count"] >= 2
+    assert s["peak_u2_mid"] == float(np.abs(ds.u2_mid).max())
+    assert s["first_impact_time"] == float(ds.impact_time[0])
+    assert s["impact_times"][:2] == [float(t) for t in ds.impact_time[:2]]
+    assert len(s["impact_times"]) == 4
+    assert s["peak_pressure"] == float(np.abs(ds.pressure).max())
+    assert s["min_film"] == float(ds.film_min.min()) and s["end_time"] == float(ds.time[-1]) > 0.69
+    dry = summarise(lubelink.simulate("paper-dry", set={"solver.t_end": 0.05, "output.x_points": 5}))
+    assert math.isnan(dry["peak_pressure"]) and math.isnan(dry["first_impact_time"])
+
+
+def test_a_point_that_raises_is_a_failed_record():
+    opts = _TaskOptions(("peak_u2_mid", "impact_count"), (), 3, 0, 1e-3, "x")
+    record, series = _compute_point(0, None, opts)  # no configuration: the simulation raises
+    assert record["status"] == "error" and "AttributeError" in record["message"] and series == {}
+    assert math.isnan(record["peak_u2_mid"]) and record["impact_count"] == -1
+
+
+def test_journal_commits_points_and_a_torn_line_is_ignored(tmp_path):
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2, 0.3]}))
+    st = _Store.open(tmp_path / "j.zarr", sp)
+    record = _empty_record(sp.quantities, sp.max_impacts, "complete", "ok", 1.0)
+    st.write(2, {**record, "peak_u2_mid": 1.5e-3, "impact_count": 4}, {})
+    with pytest.raises(SweepError, match="being written by another sweep"):
+        _Store.open(tmp_path / "j.zarr", sp)
+    with open(tmp_path / "j.zarr" / "journal.jsonl", "a") as f:
+        f.write('{"i": 0, "status": "compl')  # a kill in the middle of a line
+    ds = load_sweep(tmp_path / "j.zarr")  # reads the journal without folding it
+    assert ds.done.values.tolist() == [False, False, True]
+    assert ds.peak_u2_mid.values[2] == 1.5e-3 and ds.impact_count.values.tolist() == [-1, -1, 4]
+    st.close()
+    other = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2, 0.4]}))
+    with pytest.raises(SweepError, match="holds a different sweep"):
+        _Store.open(tmp_path / "j.zarr", other)
+    again = _Store.open(tmp_path / "j.zarr", sp)  # the lock of a closed writer is free
+    assert again.state()[0].tolist() == [False, False, True]
+    again.close()
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("sweep*.toml")), ids=lambda p: p.name)
+def test_examples_are_valid_sweeps(path):
+    sp = read_sweep(path)
+    configs, invalid = sp.point_configs()
+    assert not invalid and len(configs) == sp.size
+
+
+# ====================================================================== on a real LocalCluster
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=":0") as cluster, \
+            Client(cluster) as c:
+        yield c
+
+
+@pytest.fixture(scope="module")
+def reference(client, tmp_path_factory):
+    """The 12-point sweep, uninterrupted, on the shared cluster."""
+    folder = tmp_path_factory.mktemp("reference")
+    (folder / "sweep.toml").write_text(SWEEP_TOML)
+    trace = folder / "trace.log"
+    ds = run_sweep(folder / "sweep.toml", folder / "ref.zarr", client=client, progress=False, trace=trace)
+    return folder, ds, trace
+
+
+def test_sweep_on_a_local_cluster_stores_every_point_once(reference):
+    folder, ds, trace = reference
+    assert ds.sizes == {"film.viscosity": 2, "mechanism.crank_speed": 3, "film.clearance": 2, "time": 101}
+    assert bool(ds.done.all())
+    assert sorted(ends(trace)) == list(range(12))  # each point computed exactly once
+    assert ds["mechanism.crank_speed"].attrs["units"] == "rad/s" and ds.peak_pressure.attrs["units"] == "Pa"
+    assert ds["film.clearance"].attrs["scale"] == "log"
+    again = run_sweep(folder / "sweep.toml", folder / "ref.zarr", progress=False, trace=trace)  # resume: nothing left
+    assert sorted(ends(trace)) == list(range(12))
+    same_results(again, ds)
+
+
+def test_results_match_the_same_points_run_in_process(reference):
+    _, ds, _ = reference
+    for mu, w, H in [(0.001, 20.0, 1e-3), (0.001, 40.0, 3e-3), (0.1, 30.0, 1e-3), (0.1, 40.0, 3e-3)]:
+        one = lubelink.simulate("paper", set={**TINY, "film.viscosity": mu, "mechanism.crank_speed": w,
+                                              "film.clearance": H})
+        expected = summarise(one, QUANTITIES)
+        point = ds.sel({"film.viscosity": mu, "mechanism.crank_speed": w, "film.clearance": H})
+        for name in QUANTITIES + ["status", "message"]:
+            got, want = point[name].item(), expected[name]
+            assert got == want or (isinstance(want, float) and math.isnan(want) and math.isnan(got)), name
+        np.testing.assert_array_equal(point.u2_mid.values[: one.sizes["time"]], one.u2_mid.values)
+        assert point_config(ds, {"film.viscosity": mu, "mechanism.crank_speed": w, "film.clearance": H}) \
+            == lubelink.config.resolve(lubelink.results.config_of(one))
+
+
+def test_failing_points_are_recorded_and_the_others_complete(reference):
+    _, ds, _ = reference
+    status = ds.status.sel({"film.viscosity": 0.001})
+    failed = status.values != "complete"
+    assert failed.sum() == 4 and set(status.values[failed]) == {"film_breakdown"}
+    assert (ds.status.sel({"film.viscosity": 0.1}) == "complete").all()
+    msg = ds.message.sel({"film.viscosity": 0.001, "mechanism.crank_speed": 40.0, "film.clearance": 1e-3}).item()
+    assert "contact.min_film" in msg
+    broken = ds.sel({"film.viscosity": 0.001, "mechanism.crank_speed": 40.0, "film.clearance": 1e-3})
+    assert broken.end_time.item() < 0.1 and np.isnan(broken.u2_mid.values[-1])  # partial series kept
+
+
+def test_timeouts_netcdf_output_resume_and_retry(client, tmp_path):
+    data = {"base": "paper", "set": dict(TINY),
+            "points": [{"solver.max_wall_time": 1e-6}, {"solver.max_wall_time": 100.0}]}
+    out, trace = tmp_path / "points.nc", tmp_path / "trace.log"
+    ds = run_sweep(data, out, client=client, progress=False, trace=trace)
+    assert out.is_file() and not (tmp_path / "points.nc.partial.zarr").exists()
+    assert ds.status.values.tolist() == ["timeout", "complete"] and "max_wall_time" in ds.message.values[0]
+    assert ds["solver.max_wall_time"].dims == ("point",)
+    same_results(load_sweep(out), ds)
+    assert sorted(ends(trace)) == [0, 1]
+    run_sweep(data, out, client=client, progress=False, trace=trace)  # resumes from the NetCDF file
+    assert sorted(ends(trace)) == [0, 1]
+    retried = run_sweep(data, out, client=client, progress=False, trace=trace, retry_failed=True)
+    assert sorted(ends(trace)) == [0, 0, 1]  # only the failed point again
+    assert retried.status.values[1] == "complete"
+
+
+def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, client, tmp_path):
+    """SIGKILL the whole CLI process group (client, scheduler and workers) once points are stored,
+    then resume with the CLI on the shared cluster (--scheduler)."""
+    _, ref, _ = reference
+    (tmp_path / "sweep.toml").write_text(SWEEP_TOML)
+    store, first, second = tmp_path / "k.zarr", tmp_path / "first.log", tmp_path / "second.log"
+    cmd = [sys.executable, "-m", "lubelink", "sweep", "sweep.toml", "-o", "k.zarr", "-q"]
+    proc = subprocess.Popen(cmd + ["--workers", "2", "--trace", str(first)], cwd=tmp_path, start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    stored = 0
+    deadline = time.monotonic() + 180
+    while proc.poll() is None and time.monotonic() < deadline and stored < 3:
+        time.sleep(0.25)
+        if store.exists():
+            stored = int(load_sweep(store).done.sum())
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    before = load_sweep(store)
+    done_before = set(np.flatnonzero(before.done.values.reshape(-1)).tolist())
+    assert 3 <= len(done_before) < 12, "the sweep was not interrupted midway"
+    assert set(ends(first)) >= done_before
+
+    address = client.scheduler.address
+    r = subprocess.run(cmd + ["--scheduler", address, "--trace", str(second)], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    resumed = load_sweep(store)
+    same_results(resumed, ref)
+    again = ends(second)
+    assert len(again) == len(set(again))  # nothing computed twice in the resumed run
+    assert not set(again) & done_before  # no stored point computed again
+    assert set(again) | done_before == set(range(12))  # none lost
+    # Only points that had finished on a worker but not reached the store when killed run twice.
+    assert len(set(ends(first)) - done_before) <= 2
+    runs = json.loads(resumed.attrs["runs"])
+    assert runs[-1]["computed"] == 12 - len(done_before) and runs[-1]["resumed"] == len(done_before)
+    assert runs[-1]["scheduler"] == f"Dask scheduler {address}"
+
+
+def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tmp_path):
+    data = sweep_dict(**{"mechanism.crank_speed": [20.0, 25.0, 30.0, 35.0]})
+    trace = tmp_path / "trace.log"
+    workers = set(client.run(os.getpid).values())
+    killed = []
+
+    def kill_first_worker_that_starts_a_point():
+        deadline = time.monotonic() + 120
+        while not killed and time.monotonic() < deadline:
+            lines = trace.read_text().splitlines() if trace.exists() else []
+            for line in lines:
+                _, pid, event, _, flat = line.split()
+                if event == "start" and int(pid) in workers:
+                    os.kill(int(pid), signal.SIGKILL)  # its nanny starts a new worker process
+                    killed.append(int(flat))
+                    break
+            time.sleep(0.01)
+
+    killer = threading.Thread(target=kill_first_worker_that_starts_a_point)
+    killer.start()
+    ds = run_sweep(data, tmp_path / "w.zarr", client=client, progress=False, trace=trace)
+    killer.join()
+    assert killed and bool(ds.done.all()) and (ds.status == "complete").all()
+    assert sorted(ends(trace)) == [0, 1, 2, 3]  # every point stored once, the killed one included
+    starts = [line for line in trace.read_text().splitlines() if line.split()[2] == "start"]
+    assert len(starts) > 4  # the killed computation was started again elsewhere
+
+
+# ====================================================================== command line
+def test_plot_sweep_draws_maps_curves_and_status(reference, tmp_path, capsys):
+    folder, _, _ = reference
+    store = str(folder / "ref.zarr")
+    for args in (["--quantity", "peak_u2_mid"],
+                 ["--quantity", "status", "--select", "film.clearance=0.003"],
+                 ["--quantity", "peak_pressure", "--select", "film.viscosity=0.1", "--select", "film.clearance=1e-3"]):
+        png = tmp_path / f"{len(args)}.png"
+        assert cli_main(["plot-sweep", store, *args, "-o", str(png)]) == 0
+        assert png.stat().st_size > 5000
+    assert cli_main(["plot-sweep", store, "--quantity", "peak_u2"]) == 2
+    assert "did you mean 'peak_u2_mid'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["sweep", "missing.toml"], "no such file"),
+    (["sweep", "s.toml", "--workers", "two"], "--workers two"),
+    (["sweep", "s.toml", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+    (["sweep", "bad.toml"], "did you mean 'film.viscosity'"),
+    (["sweep", "s.toml", "-o", "/nonexistent-dir/r.zarr"], "does not exist"),
+    (["plot-sweep", "nothing.zarr"], "no such sweep store"),
+])
+def test_bad_command_lines_exit_2_with_clear_lines(args, needle, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    Path("s.toml").write_text('[set]\n"solver.t_end" = 0.05\n[vary]\n"film.viscosity" = [0.1]\n')
+    Path("bad.toml").write_text('[vary]\n"film.viscositty" = [0.1]\n')
+    assert cli_main(args) == 2
+    err = capsys.readouterr().err
+    assert needle in err and "Traceback" not in err
+    assert all(line.startswith("lubelink: error: ") for line in err.strip().splitlines())
+
+
+def test_an_unreachable_scheduler_is_one_clear_line(tmp_path, monkeypatch, capsys):
+    import dask
+
+    monkeypatch.chdir(tmp_path)
+    Path("s.toml").write_text('[set]\n"solver.t_end" = 0.05\n[vary]\n"film.viscosity" = [0.1]\n')
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        assert cli_main(["sweep", "s.toml", "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    err = capsys.readouterr().err
+    assert "lubelink: error: scheduler tcp://127.0.0.1:9: cannot connect" in err and "Traceback" not in err
+
+
+def test_check_prints_the_plan_without_computing(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    Path("s.toml").write_text(SWEEP_TOML)
+    assert cli_main(["sweep", "s.toml", "--check"]) == 0
+    out = capsys.readouterr().out
+    assert "points            12, all valid" in out and "film.clearance: 2 (log" in out
+    assert not Path("s.zarr").exists()
