@@ -148,6 +148,7 @@ RULES = {
         "output_step": _num(0, None, lo_open=True),
         "max_step": _num(0, None, lo_open=True, allow_inf=True),
         "max_wall_time": _num(0, None, lo_open=True, allow_inf=True),
+        "backend": _choice(("auto", "numba", "numpy")),
     },
     "output": {
         "x_points": _num(2, 10001, integer=True),

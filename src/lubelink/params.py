@@ -203,6 +203,9 @@ class Solver:
         Largest step the integrator may take [s]; ``inf`` for no limit.
     max_wall_time : float
         Wall-clock budget of one run [s]; ``inf`` for no limit.
+    backend : str
+        ``"auto"`` (the compiled Numba path where it applies), ``"numba"``
+        or ``"numpy"`` (the reference right-hand side).
     """
 
     method: str = "DOP853"
@@ -212,6 +215,7 @@ class Solver:
     output_step: float = 1e-3
     max_step: float = math.inf
     max_wall_time: float = math.inf
+    backend: str = "auto"
 
 
 @dataclass(frozen=True)

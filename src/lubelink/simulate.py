@@ -41,6 +41,55 @@ class Run:
         return self.status == "complete"
 
 
+def reference_segment_integrator(model):
+    """Segment integrator on the NumPy right-hand side and a SciPy-style step solver.
+
+    Returns ``segment(t0, y0, t_end, t_eval, *, phase, event_sign,
+    event_resolution, deadline, progress) -> Segment``: it integrates from
+    ``t0`` until ``t_end`` or until the gap function (``model.gap``) falls
+    to zero (``event_sign = -1``) or rises to zero (``+1``, the end of a
+    compliant contact ``phase``); ``event_sign = None`` watches nothing.
+    """
+    s = model.config.solver
+
+    def segment(t0, y0, t_end, t_eval, *, phase, event_sign, event_resolution, deadline, progress):
+        fun = model.rhs if phase is None else functools.partial(model.rhs, phase=phase)
+        event = None
+        if event_sign == -1:
+            event = model.gap
+        elif event_sign == 1:
+            event = lambda t_, y_: -model.gap(t_, y_)  # noqa: E731
+        return integrate_segment(fun, t0, y0, t_end, t_eval, method=s.method, rtol=s.rtol, atol=s.atol,
+                                 max_step=s.max_step, event=event, event_resolution=event_resolution,
+                                 deadline=deadline, progress=progress)
+
+    return segment
+
+
+def segment_integrator(model):
+    """The segment integrator for ``model``: the compiled fast path where it applies, else the reference.
+
+    ``solver.backend``: ``"numpy"`` always takes the reference; ``"numba"``
+    requires the fast path; ``"auto"`` takes it when Numba is installed and
+    the configuration is supported.
+    """
+    backend = model.config.solver.backend
+    if backend != "numpy":
+        try:
+            from .integrate.fast import make_segment_integrator
+        except ImportError:
+            if backend == "numba":
+                raise
+        else:
+            fast = make_segment_integrator(model)
+            if fast is not None:
+                return fast
+            if backend == "numba":
+                raise ValueError("solver.backend = 'numba': this configuration is not supported by the "
+                                 "compiled path; use backend = 'auto' or 'numpy'")
+    return reference_segment_integrator(model)
+
+
 def run(config, motion=None, progress=None) -> Run:
     """Integrate a validated configuration, handling film breakdown as it occurs.
 
@@ -82,16 +131,11 @@ def run(config, motion=None, progress=None) -> Run:
     ts, ys = [t_eval[:1]], [y[None, :]]
     out = Run(model=model, t=None, y=None)
     phase = None  # compliant contact in progress
+    segment = segment_integrator(model)
     while True:
-        if phase is None:
-            fun, event = model.rhs, (model.gap if monitored else None)
-        else:
-            fun = functools.partial(model.rhs, phase=phase)
-            event = lambda t_, y_: -model.gap(t_, y_)  # noqa: E731  the film reopens
-        seg = integrate_segment(fun, t, y, s.t_end, t_eval[t_eval > t], method=s.method,
-                                rtol=s.rtol, atol=s.atol, max_step=s.max_step,
-                                event=event, event_resolution=event_resolution, deadline=deadline,
-                                progress=progress)
+        event_sign = None if not monitored else (-1 if phase is None else 1)
+        seg = segment(t, y, s.t_end, t_eval[t_eval > t], phase=phase, event_sign=event_sign,
+                      event_resolution=event_resolution, deadline=deadline, progress=progress)
         ts.append(seg.t)
         ys.append(seg.y)
         out.nfev += seg.nfev
