@@ -142,6 +142,12 @@ def plot_deflection_3d(ds, ax=None, t_max=None, max_lines=250, cmap="RdBu_r"):
     return ax
 
 
+def _legend(ax, n):
+    """Legend above the axes, in columns, so that it never hides the curves."""
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=min(n, 3), fontsize=8, frameon=False,
+              borderaxespad=0.2, handlelength=1.8, columnspacing=1.2)
+
+
 def plot_midpoint(datasets, ax=None, styles=None):
     """Midpoint deflection ``u2(L/2, t)`` [mm] of several runs on one axes.
 
@@ -158,7 +164,7 @@ def plot_midpoint(datasets, ax=None, styles=None):
         ax.plot(ds.time.values, ds.u2_mid.values * MM, label=label, **styles.get(label, {"lw": 1.0}))
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("midpoint deflection u2(L/2, t) [mm]")
-    ax.legend(loc="upper right")
+    _legend(ax, len(datasets))
     return ax
 
 
@@ -180,11 +186,11 @@ def plot_midpoint_difference(datasets, reference, ax=None, styles=None):
         if label == reference:
             continue
         d = np.interp(t, ds.time.values, ds.u2_mid.values) - ref.u2_mid.values
-        ax.plot(t, d * UM, label=f"{label} - {reference}", **styles.get(label, {"lw": 0.9}))
+        ax.plot(t, d * UM, label=f"{label} minus {reference}", **styles.get(label, {"lw": 0.9}))
     ax.axhline(0.0, color="0.3", lw=0.6)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("difference in u2(L/2, t) [µm]")
-    ax.legend(loc="upper right")
+    _legend(ax, len(datasets) - 1)
     return ax
 
 

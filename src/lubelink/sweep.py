@@ -1042,7 +1042,8 @@ class _Store:
                     self.array(name)[index] = series[name]
                 else:  # a point without results: clear what a previous attempt may have left
                     self.array(name)[index] = np.nan
-        os.write(self._journal_fd, (json.dumps({"i": int(flat), **record}) + "\n").encode())
+        line = json.dumps({"i": int(flat), **record}, default=_plain)
+        os.write(self._journal_fd, (line + "\n").encode())
         if time.monotonic() - self._last_compact > COMPACT_INTERVAL:
             self.compact()
 
@@ -1077,6 +1078,15 @@ class _Store:
             os.close(self._journal_fd)
             self._journal_fd = None
         self._unlock()
+
+
+def _plain(value):
+    """JSON form of NumPy scalars and arrays in a record."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"cannot store {type(value).__name__} in a sweep record")
 
 
 def _side_store(path: Path) -> Path:
@@ -1461,7 +1471,8 @@ def _edges(values, log):
     if log:
         return np.exp(_edges(np.log(v), False))
     if v.size == 1:
-        return np.array([v[0] - 0.5, v[0] + 0.5]) if v[0] == 0 else np.array([v[0] * 0.9, v[0] * 1.1])
+        half = 0.5 if v[0] == 0 else 0.1 * abs(v[0])
+        return np.array([v[0] - half, v[0] + half])
     mid = 0.5 * (v[1:] + v[:-1])
     return np.concatenate([[v[0] - (mid[0] - v[0])], mid, [v[-1] + (v[-1] - mid[-1])]])
 
@@ -1681,6 +1692,15 @@ def _usage(message):
     return UsageError(message)
 
 
+def _require(*modules, extra):
+    """A one-line usage error when an optional dependency is missing."""
+    import importlib.util
+
+    missing = [m for m in modules if importlib.util.find_spec(m) is None]
+    if missing:
+        raise _usage(f"{', '.join(missing)} not installed; install the extra: pip install 'lubelink[{extra}]'")
+
+
 def _plan(sp: Sweep, invalid, path):
     params = _parameters()
     rows = [("sweep", sp.origin), ("base", f"{sp.base}" + (f", with [set] {', '.join(sp.fixed)}" if sp.fixed else ""))]
@@ -1767,6 +1787,7 @@ def _cmd_sweep(args):
         if invalid and sp.invalid_points == "error":
             raise ConfigError(sp.invalid_report(invalid))
         return 0
+    _require("distributed", "zarr", "xarray", extra="sweep")
     if not args.quiet:
         print(f"{sp.origin}: {sp.size} points -> {out}", file=sys.stderr)
     try:
@@ -1796,6 +1817,7 @@ def _cmd_plot_sweep(args):
             raise _usage(f"--select {text!r}: must look like DIM=VALUE, e.g. film.viscosity=0.1")
         dim, value = (part.strip() for part in text.split("=", 1))
         select[dim] = value
+    _require("matplotlib", "zarr", "xarray", extra="plot,sweep")
     import matplotlib
 
     matplotlib.use("Agg")

@@ -118,7 +118,15 @@ def integrate_segment(fun, t0, y0, t_end, t_eval, *, method="DOP853", rtol=1e-8,
     options = {"rtol": rtol, "atol": atol, "max_step": max_step}
     if first_step is not None:
         options["first_step"] = first_step
-    solver = cls(fun, t0, np.asarray(y0, dtype=float), t_end, **options)
+    non_finite = []  # the first time the right-hand side returned NaN or infinity
+
+    def checked(t, y):
+        dy = fun(t, y)
+        if not non_finite and not np.all(np.isfinite(dy)):
+            non_finite.append(t)
+        return dy
+
+    solver = cls(checked, t0, np.asarray(y0, dtype=float), t_end, **options)
     t_eval = np.asarray(t_eval, dtype=float)
     ts, ys = [], []
     i_eval = 0
@@ -131,8 +139,12 @@ def integrate_segment(fun, t0, y0, t_end, t_eval, *, method="DOP853", rtol=1e-8,
         msg = solver.step()
         nsteps += 1
         if solver.status == "failed":
+            y_last = solver.y_old if solver.y_old is not None else solver.y
             status, message = "failed", f"{solver.__class__.__name__} failed at t = {t_old:.9g} s: {msg}"
-            t_final, y_final = t_old, solver.y_old if solver.y_old is not None else solver.y
+            if non_finite:
+                message = (f"the right-hand side is not finite at t = {non_finite[0]:.9g} s (a load or the "
+                           f"prescribed motion returned NaN or infinity)")
+            t_final, y_final = t_old, y_last
             break
         t_new, y_new = solver.t, solver.y
         if not np.all(np.isfinite(y_new)):
