@@ -42,9 +42,11 @@ def test_event_time_converges_with_tolerance_and_agrees_across_methods(impact_ru
     tight = run(resolve("paper", {**IMPACT, "solver.rtol": 1e-11, "solver.atol": 1e-14, "solver.t_end": 0.3}))
     radau = run(resolve("paper", {**IMPACT, "solver.method": "Radau", "solver.rtol": 1e-9,
                                   "solver.atol": 1e-13, "solver.t_end": 0.3}))
+    gbs = run(resolve("paper", {**IMPACT, "solver.method": "bulirsch-stoer", "solver.t_end": 0.3}))
     # rtol 1e-8 on a motion of period ~0.04 s puts the crossing within ~1e-8 s of the tight answer
     assert tight.impacts[0][0] == pytest.approx(t_ref, abs=1e-7)
     assert radau.impacts[0][0] == pytest.approx(tight.impacts[0][0], abs=1e-7)
+    assert gbs.impacts[0][0] == pytest.approx(tight.impacts[0][0], abs=1e-7)
 
 
 def test_zero_restitution_chatters_and_stops_with_a_message():
@@ -74,7 +76,7 @@ def test_partial_results_on_timeout():
 
 def test_methods_agree_on_the_smooth_case(short):
     ref = lubelink.simulate("paper", set={**short, "solver.rtol": 1e-11, "solver.atol": 1e-15})
-    for method in ("DOP853", "Radau", "LSODA", "RK45"):
+    for method in ("DOP853", "bulirsch-stoer", "Radau", "LSODA", "RK45"):
         ds = lubelink.simulate("paper", set={**short, "solver.method": method, "solver.rtol": 1e-9,
                                              "solver.atol": 1e-13})
         # global error ~ a few rtol x the 2 mm response
