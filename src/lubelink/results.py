@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["FORMAT_VERSION", "save", "load", "config_of", "ResultsFileError"]
+__all__ = ["FORMAT_VERSION", "save", "load", "config_of", "atomic_path", "ResultsFileError"]
 
 #: Version of the results layout; :func:`load` refuses other major versions.
 FORMAT_VERSION = "1.0"
@@ -28,11 +29,26 @@ def variable(dims, data, units, long_name, **attrs):
     return dims, np.asarray(data), {"units": units, "long_name": long_name, **attrs}
 
 
-def save(dataset, path, overwrite=False):
-    """Write ``dataset`` to NetCDF at ``path`` atomically.
+@contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside ``path``; rename it over ``path`` if the block succeeds.
 
-    The file is written to a temporary file in the same folder, then renamed
-    over ``path``, so a crash never leaves a half-written file.
+    A failure (or an interruption) inside the block removes the temporary
+    file, so ``path`` is either the old file or the complete new one.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def save(dataset, path, overwrite=False):
+    """Write ``dataset`` to NetCDF at ``path`` atomically (:func:`atomic_path`).
 
     Raises
     ------
@@ -44,14 +60,8 @@ def save(dataset, path, overwrite=False):
         raise ResultsFileError(f"{path} exists; pass overwrite=True (--overwrite) to replace it")
     if not path.parent.exists():
         raise ResultsFileError(f"{path}: folder {path.parent} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         dataset.to_netcdf(tmp, engine="netcdf4")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 
