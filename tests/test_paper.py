@@ -102,8 +102,8 @@ def test_fig9_first_impact_is_the_calibrated_one(figures):
         best = min(abs(t - cal.target) for _, t in cal.evaluations)
         assert abs(cal.miss) == pytest.approx(best)
         if cal.bracket[0] != cal.bracket[1]:  # a jump of t1(H) across the target, bracketed tightly
-            lo, hi = cal.bracket_times
-            assert min(lo, cal.t_stop) < cal.target <= min(hi, cal.t_stop)
+            lo, hi = (min(t, cal.t_stop) for t in cal.bracket_times)
+            assert (lo < cal.target) != (hi < cal.target)
             assert cal.bracket[1] - cal.bracket[0] < 1e-6
     # every impact reverses the approach: impacts are separated in time
     assert np.all(np.diff(ds.impact_time.values) > 0)
@@ -121,16 +121,25 @@ def test_modal_differences_shrink_with_the_number_of_modes(figures):
 def test_errata_variants_differ_from_the_corrected_run_by_their_expected_size(figures):
     _, result = figures
     d = result.data["errata"]
-    ref = d["corrected (lubelink)"].u2_mid.values
+    ref = d["corrected"].u2_mid.values
     scale = np.abs(ref).max()
 
-    def change(label):
-        return np.abs(d[label].u2_mid.values - ref).max() / scale
+    def variant(prefix):
+        (label,) = [k for k in d if k.startswith(prefix)]
+        return d[label]
+
+    def change(prefix):
+        u = variant(prefix).u2_mid.values
+        return np.abs(u - ref[: u.size]).max() / scale
 
     # omega^2 / omega_1^2 <= 2.2e-4: the printed sign shifts the frequency by ~1e-4, a tiny drift
-    assert 0 < change("+omega^2 (Eq. 18 printed)") < 0.01
-    # omega v_O1 is ~3.5 % of A_O2: a visible but small change
-    assert 0.005 < change("+omega v_O1 counted twice") < 0.2
+    assert 0 < change("+omega^2 q") < 0.01
+    # omega v_O1 is ~3.5 % of A_O2 but shifts the free vibration: a visible change, well below the response
+    assert 0.005 < change("omega v_O1 twice") < 0.3
+    # Eq. 20's sign turns the film into suction: it pulls the link onto the collar and the film breaks down
+    printed = variant("+B p_g")
+    assert printed.attrs["status"] == "film_breakdown" and printed.sizes["time"] < d["corrected"].sizes["time"]
+    assert float(d["corrected"].film_min.min()) > 1e-4  # the corrected film never comes near breakdown
 
 
 def test_calibration_root_and_jump_logic(monkeypatch):

@@ -31,6 +31,7 @@ __all__ = [
     "figure_modal_convergence",
     "figure_errata",
     "figure_lubrication_effect",
+    "figure_first_impact_map",
     "draw_mechanism",
     "animate_mechanism",
 ]
@@ -144,7 +145,9 @@ def plot_deflection_3d(ds, ax=None, t_max=None, max_lines=250, cmap="RdBu_r"):
 
 def _legend(ax, n):
     """Legend above the axes, in columns, so that it never hides the curves."""
-    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=min(n, 3), fontsize=8, frameon=False,
+    longest = max((len(t) for t in ax.get_legend_handles_labels()[1]), default=0)
+    ncols = min(n, 4 if longest <= 20 else 3 if longest <= 28 else 2)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=max(ncols, 1), fontsize=8, frameon=False,
               borderaxespad=0.2, handlelength=1.8, columnspacing=1.2)
 
 
@@ -174,7 +177,8 @@ def plot_midpoint_difference(datasets, reference, ax=None, styles=None):
     Parameters
     ----------
     datasets : dict of str -> xarray.Dataset
-        Label -> results; each is interpolated on the reference's time samples.
+        Label -> results; each is interpolated on the reference's time
+        samples (a run that ended early is drawn up to its end).
     reference : str
         Label of the run subtracted.
     """
@@ -186,10 +190,11 @@ def plot_midpoint_difference(datasets, reference, ax=None, styles=None):
         if label == reference:
             continue
         d = np.interp(t, ds.time.values, ds.u2_mid.values) - ref.u2_mid.values
-        ax.plot(t, d * UM, label=f"{label} minus {reference}", **styles.get(label, {"lw": 0.9}))
+        d[(t < ds.time.values[0]) | (t > ds.time.values[-1])] = np.nan  # no extrapolation
+        ax.plot(t, d * UM, label=label, **styles.get(label, {"lw": 0.9}))
     ax.axhline(0.0, color="0.3", lw=0.6)
     ax.set_xlabel("time t [s]")
-    ax.set_ylabel("difference in u2(L/2, t) [µm]")
+    ax.set_ylabel(f"u2(L/2, t) minus {reference} [µm]")
     _legend(ax, len(datasets) - 1)
     return ax
 
@@ -250,14 +255,15 @@ def plot_film_min(ds, ax=None, min_film=None):
         Breakdown threshold ``xi_min`` [m].
     """
     ax = _ax(ax)
-    ax.plot(ds.time.values, ds.film_min.values * MM, lw=0.9, color="C2", label="thinnest film")
+    ax.plot(ds.time.values, ds.film_min.values * MM, lw=0.9, color="C2", label="thinnest film (sampled)")
     for ti in ds.impact_time.values:
         ax.axvline(ti, color="C3", lw=0.5, alpha=0.6)
     if min_film is not None:
         ax.axhline(min_film * MM, color="C3", ls=":", lw=0.9, label=f"breakdown, {min_film * UM:g} µm")
+    ax.set_yscale("log")
     ax.set_xlabel("time t [s]")
-    ax.set_ylabel("thinnest film xi_min [mm]")
-    ax.legend(loc="upper right")
+    ax.set_ylabel("thinnest film [mm]")
+    ax.legend(loc="lower right", fontsize=8)
     return ax
 
 
@@ -324,16 +330,51 @@ def figure_pressure(ds, title=None):
     return fig
 
 
-def figure_impact(ds, target=None, min_film=None, title=None, note=None):
-    """Paper Fig. 9: midpoint deflection with film breakdown and impacts, and the thinnest film."""
+def figure_impact(ds, target=None, min_film=None, title=None, note=None, zoom=0.04):
+    """Paper Fig. 9: midpoint deflection with film breakdown and impacts, the thinnest film, a zoom.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results of a run with a contact law.
+    target : float, optional
+        Paper's first-impact time [s].
+    min_film : float, optional
+        Breakdown threshold [m].
+    note : str, optional
+        Subtitle (e.g. how the clearance was found).
+    zoom : float
+        Half-width of the zoom around the first impact (and ``target``) [s].
+    """
+    times = ds.impact_time.values
     with _style():
-        fig = _figure(8.0, 6.0)
-        ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
+        fig = _figure(8.0, 7.5 if times.size else 6.0)
+        if times.size:
+            ax1, ax2, ax3 = fig.subplots(3, 1, height_ratios=[2, 1, 1.3])
+        else:
+            (ax1, ax2), ax3 = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1]), None
         plot_impacts(ds, ax1, target=target)
         ax1.set_xlabel("")
         plot_film_min(ds, ax2, min_film=min_film)
+        ax2.sharex(ax1)
+        ax2.set_xlabel("")
         if target is not None:
             ax2.axvline(target, color="k", ls="--", lw=0.9)
+        if ax3 is not None:
+            t0 = times[0]
+            ends = [t0, t0] if target is None else [min(t0, target), max(t0, target)]
+            part = ds.sel(time=slice(ends[0] - zoom, ends[1] + zoom))
+            ax3.plot(part.time.values, part.u2_mid.values * MM, lw=1.2, color="C0")
+            first = np.interp(t0, ds.time.values, ds.u2_mid.values) * MM
+            ax3.plot([t0], [first], "v", color="C3", ms=7,
+                     label=f"first impact, t = {t0:.4f} s, approach velocity "
+                           f"{ds.impact_velocity.values[0] * MM:.3g} mm/s")
+            if target is not None:
+                ax3.axvline(target, color="k", ls="--", lw=0.9, label=f"paper's impact, t = {target} s")
+            ax3.set_xlabel("time t [s]")
+            ax3.set_ylabel("u2(L/2, t) [mm]")
+            ax3.legend(loc="lower left", fontsize=8)
+            ax3.set_title("zoom on the first impact", fontsize=9)
         if note:
             ax1.set_title(note, fontsize=9)
         fig.suptitle(title or "Midpoint deflection with film breakdown and impact, e = 0.7 (paper Fig. 9)")
@@ -392,22 +433,74 @@ def figure_lubrication_effect(effect, title=None):
         ``(model, viscosity, clearance)``, ``film_min``).
     """
     markers = {"wedge": "o-", "wedge+squeeze": "s--"}
+    t_end = effect.attrs.get("t_end")
+    span = f" over 0-{t_end:g} s" if t_end else ""
     with _style():
         fig = _figure(8.0, 6.0)
         ax1, ax2 = fig.subplots(2, 1, sharex=True)
+        broken = False
         for i, H in enumerate(effect.clearance.values):
             for model in effect.model.values:
                 e = effect.sel(model=model, clearance=H)
                 style = dict(color=f"C{i}", label=f"{model}, H = {H * MM:g} mm")
-                ax1.plot(effect.viscosity.values, e.change.values * 100, markers.get(str(model), "^-"), **style)
-                ax2.plot(effect.viscosity.values, e.film_min.values * MM, markers.get(str(model), "^-"), **style)
+                mu = effect.viscosity.values
+                ax1.plot(mu, e.change.values * 100, markers.get(str(model), "^-"), **style)
+                ax2.plot(mu, e.film_min.values * MM, markers.get(str(model), "^-"), **style)
+                bad = e.status.values != "complete"
+                if bad.any():
+                    broken = True
+                    ax1.plot(mu[bad], e.change.values[bad] * 100, "kx", ms=9)
+                    ax2.plot(mu[bad], e.film_min.values[bad] * MM, "kx", ms=9)
+        if broken:
+            ax1.plot([], [], "kx", ms=9, label="film broke down: run ended early")
         ax1.axhline(0.0, color="k", lw=0.8)
-        ax1.set_ylabel("peak |u2(L/2)| change vs dry [%]")
-        ax1.legend(loc="best")
+        ax1.set_ylabel("peak |u2(L/2)|: change from dry [%]")
+        _legend(ax1, 4)
         ax2.set_xscale("log")
         ax2.set_xlabel("viscosity mu [Pa s]")
         ax2.set_ylabel("thinnest film [mm]")
-        fig.suptitle(title or "Does the film reduce the deflection? Peak |u2(L/2)| over 0-2 s, film vs dry")
+        fig.suptitle(title or f"Does the film reduce the deflection? Peak |u2(L/2)|{span}, film against dry joint")
+    return fig
+
+
+def figure_first_impact_map(impacts, target=None, title=None):
+    """When can the film break down? First-impact times over viscosity and clearance.
+
+    Parameters
+    ----------
+    impacts : xarray.Dataset
+        From :func:`lubelink.paper.first_impact_map`: ``first_impact`` [s]
+        and ``phase`` [s] on ``(viscosity, clearance)``, ``attrs["period"]``
+        the crank period [s].
+    target : float, optional
+        The paper's first-impact time [s], marked on both panels.
+    """
+    period = float(impacts.attrs["period"])
+    with _style():
+        fig = _figure(8.0, 6.5)
+        ax1, ax2 = fig.subplots(2, 1, height_ratios=[1.4, 1])
+        for i, mu in enumerate(impacts.viscosity.values):
+            t1 = impacts.first_impact.sel(viscosity=mu).values
+            ok = np.isfinite(t1)
+            ax1.plot(impacts.clearance.values[ok] * MM, t1[ok], ".", ms=4, color=f"C{i}",
+                     label=f"mu = {mu * 1e3:g} mPa s")
+        if target is not None:
+            ax1.axhline(target, color="k", ls="--", lw=0.9, label=f"paper, {target} s")
+        ax1.set_xlabel("clearance H [mm]")
+        ax1.set_ylabel("first impact [s]")
+        _legend(ax1, impacts.sizes["viscosity"] + 1)
+        angle = impacts.phase.values[np.isfinite(impacts.phase.values)] / period * 360.0
+        ax2.hist(angle, bins=np.arange(0, 361, 5), color="C0")
+        if target is not None:
+            ax2.axvline((target % period) / period * 360.0, color="k", ls="--", lw=0.9,
+                        label=f"paper's impact: {(target % period) / period * 360.0:.0f}°")
+            ax2.legend(loc="upper right", fontsize=8)
+        ax2.set_xlim(0, 360)
+        ax2.set_xticks(np.arange(0, 361, 45))
+        ax2.set_xlabel("crank angle at the first impact [deg]")
+        ax2.set_ylabel("runs")
+        n, hit = impacts.first_impact.size, int(np.isfinite(impacts.first_impact.values).sum())
+        fig.suptitle(title or f"First film breakdown from zero initial conditions: {hit} of {n} runs")
     return fig
 
 
@@ -475,9 +568,14 @@ def draw_mechanism(ds, i=0, ax=None, scale=50.0, artists=None, config=None):
     else:
         face = 0.012
     corners = [g["x0"], g["x0"] + fm.pad_length]
-    collar = np.array([pin + corners[0] * e_i + face * e_j, pin + corners[1] * e_i + face * e_j,
-                       pin + corners[1] * e_i + (face + thick) * e_j,
-                       pin + corners[0] * e_i + (face + thick) * e_j])
+
+    def pad(side):  # collar face at side * face from the chord, body beyond it
+        inner, outer = side * face, side * (face + thick)
+        return np.array([pin + corners[0] * e_i + inner * e_j, pin + corners[1] * e_i + inner * e_j,
+                         pin + corners[1] * e_i + outer * e_j, pin + corners[0] * e_i + outer * e_j])
+
+    collar = pad(1)
+    lower = pad(-1) if getattr(fm, "sides", 1) == 2 else None
     member = g["guide_point"] + (face + thick) * e_j
     slider = g["slider"]
     slider_box = slider + np.array([[-0.05, -0.025], [0.05, -0.025], [0.05, 0.025], [-0.05, 0.025]])
@@ -492,6 +590,8 @@ def draw_mechanism(ds, i=0, ax=None, scale=50.0, artists=None, config=None):
         a["chord"], = ax.plot(*np.array([pin, slider]).T, color="0.6", lw=0.8, ls=":")
         a["rod"], = ax.plot(g["rod"][:, 0], g["rod"][:, 1], color="C0", lw=2.5)
         a["collar"] = ax.add_patch(Polygon(collar, closed=True, color="C1", alpha=0.9))
+        if lower is not None:
+            a["collar_lower"] = ax.add_patch(Polygon(lower, closed=True, color="C1", alpha=0.9))
         a["member"], = ax.plot([member[0]], [member[1]], "s", color="C1", ms=7)
         a["slider"] = ax.add_patch(Polygon(slider_box, closed=True, color="0.4"))
         a["text"] = ax.text(0.02, 0.95, label, transform=ax.transAxes, va="top")
@@ -505,6 +605,8 @@ def draw_mechanism(ds, i=0, ax=None, scale=50.0, artists=None, config=None):
     artists["chord"].set_data(*np.array([pin, slider]).T)
     artists["rod"].set_data(g["rod"][:, 0], g["rod"][:, 1])
     artists["collar"].set_xy(collar)
+    if lower is not None:
+        artists["collar_lower"].set_xy(lower)
     artists["member"].set_data([member[0]], [member[1]])
     artists["slider"].set_xy(slider_box)
     artists["text"].set_text(label)
