@@ -8,14 +8,20 @@ The sweep: the ``paper`` scenario over ``mechanism.crank_speed`` (20 values, 25-
 2. with :func:`lubelink.sweep.run_sweep` on a ``LocalCluster`` of N worker processes (one thread
    each) for each N of ``--workers``, into a fresh Zarr store.
 
-Each cluster is started and warmed (imports, one tiny simulation per worker) before its timing
-starts: worker start-up is paid once per cluster, not per point. Reported per run:
+Each cluster is the one ``lubelink sweep`` starts (``lubelink.sweep.LOCAL_CLUSTER_CONFIG``), started
+and warmed (imports, one tiny simulation per worker) before its timing starts: worker start-up is
+paid once per cluster, not per point. Reported per run:
 
 * points/s and speed-up over the serial baseline;
 * overhead per point = (wall time x workers - serial time) / points: the worker-time each point
   costs beyond its simulation (scheduling, transfers, storing, and on a machine with as many cores
-  as workers the client and scheduler competing with the workers);
-* client CPU per point: CPU time of this process (client and scheduler threads) per point.
+  as workers the client and scheduler competing with the workers). Meaningful only on an otherwise
+  idle machine: the load average is printed after each phase;
+* workers busy: the share of the workers' wall time spent inside points (from the audit trace);
+* gap between points: mean time a worker spends between the end of a point and the start of its
+  next one (Dask's dispatch, transfers, bookkeeping), robust to other load on the machine;
+* client CPU per point: CPU time of this process (client and scheduler threads) per point,
+  including fixed costs (validating every point, creating and reading the store).
 
 Usage::
 
@@ -73,22 +79,43 @@ def serial(sp):
     return time.perf_counter() - t0, sim
 
 
-def on_cluster(sp, workers, folder):
+def on_cluster(sp, workers, folder, task_seconds):
+    import dask
     from distributed import Client, LocalCluster
 
-    from lubelink.sweep import run_sweep
+    from lubelink.sweep import LOCAL_CLUSTER_CONFIG, run_sweep
 
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+    with dask.config.set(LOCAL_CLUSTER_CONFIG), \
+            LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                         silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         client.run(warm_up)
-        store = Path(folder) / f"w{workers}.zarr"
+        store, trace = Path(folder) / f"w{workers}.zarr", Path(folder) / f"w{workers}.log"
         cpu0, t0 = time.process_time(), time.perf_counter()
-        ds = run_sweep(sp, store, client=client, progress=False)
+        ds = run_sweep(sp, store, client=client, progress=False, task_seconds=task_seconds, trace=trace)
         wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
         assert bool(ds.done.all())
         failed = int((ds.status != "complete").sum())
         shutil.rmtree(store)
-    return wall, cpu, failed
+    busy, gaps = worker_times(trace)
+    return wall, cpu, failed, busy / (wall * workers), gaps
+
+
+def worker_times(trace):
+    """Total time the workers spent inside points, and the mean gap between consecutive points of
+    a worker (Dask's dispatch, transfers and bookkeeping), from the audit trace."""
+    events = {}
+    for line in Path(trace).read_text().splitlines():
+        t, pid, event, _, _ = line.split()
+        events.setdefault(pid, []).append((float(t), event))
+    busy, gaps = 0.0, []
+    for seq in events.values():
+        seq.sort()
+        for (t1, e1), (t2, e2) in zip(seq, seq[1:]):
+            if e1 == "start" and e2 == "end":
+                busy += t2 - t1
+            elif e1 == "end" and e2 == "start":
+                gaps.append(t2 - t1)
+    return busy, sum(gaps) / len(gaps) if gaps else 0.0
 
 
 def main(argv=None):
@@ -96,32 +123,38 @@ def main(argv=None):
     parser.add_argument("--points", type=int, default=200, help="points in the sweep (multiple of 20)")
     parser.add_argument("--t-end", type=float, default=2.0, help="simulated time per point [s] (default 2)")
     parser.add_argument("--workers", default="1,2", help="comma-separated worker counts (default 1,2)")
+    parser.add_argument("--task-seconds", type=float, default=0.5,
+                        help="run_sweep(task_seconds=...): points per Dask task (0: one point per task)")
     args = parser.parse_args(argv)
 
     from lubelink.sweep import read_sweep
 
     sp = read_sweep(sweep_definition(args.points, args.t_end))
     counts = [int(w) for w in args.workers.split(",")]
-    print(f"{args.points} points of the 'paper' scenario, {args.t_end:g} s each; "
+    print(f"{args.points} points of the 'paper' scenario, {args.t_end:g} s each, task_seconds {args.task_seconds:g}; "
           f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.2f} at start", flush=True)
 
     t_serial, t_sim = serial(sp)
     n = sp.size
     print(f"serial baseline: {t_serial:.1f} s ({1e3 * t_serial / n:.1f} ms per point, of which "
-          f"{1e3 * t_sim / n:.1f} ms in the simulation itself)", flush=True)
-    rows = [("serial, in-process", "-", t_serial, n / t_serial, 1.0, 0.0, float("nan"), 0)]
+          f"{1e3 * t_sim / n:.1f} ms in the simulation itself), load average {os.getloadavg()[0]:.2f}",
+          flush=True)
+    rows = [("serial, in-process", "-", t_serial, n / t_serial, 1.0, None, None, None, None, 0)]
     with tempfile.TemporaryDirectory() as folder:
         for w in counts:
-            wall, cpu, failed = on_cluster(sp, w, folder)
-            rows.append((f"run_sweep, LocalCluster", str(w), wall, n / wall, t_serial / wall,
-                         1e3 * (wall * w - t_serial) / n, 1e3 * cpu / n, failed))
-            print(f"{w} worker(s): {wall:.1f} s", flush=True)
+            wall, cpu, failed, utilisation, gap = on_cluster(sp, w, folder, args.task_seconds)
+            rows.append(("run_sweep, LocalCluster", str(w), wall, n / wall, t_serial / wall,
+                         1e3 * (wall * w - t_serial) / n, 100 * utilisation, 1e3 * gap, 1e3 * cpu / n, failed))
+            print(f"{w} worker(s): {wall:.1f} s, load average {os.getloadavg()[0]:.2f}", flush=True)
 
     head = ("mode", "workers", "wall [s]", "points/s", "speed-up", "overhead/point [ms]",
-            "client CPU/point [ms]", "failed points")
-    table = [head] + [(r[0], r[1], f"{r[2]:.1f}", f"{r[3]:.3f}", f"{r[4]:.2f}",
-                       f"{r[5]:.1f}" if r[1] != "-" else "-",
-                       f"{r[6]:.2f}" if r[1] != "-" else "-", str(r[7])) for r in rows]
+            "workers busy [%]", "gap between points [ms]", "client CPU/point [ms]", "failed points")
+
+    def cell(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    table = [head] + [(r[0], r[1], f"{r[2]:.1f}", f"{r[3]:.3f}", f"{r[4]:.2f}", cell(r[5], ".1f"),
+                       cell(r[6], ".1f"), cell(r[7], ".2f"), cell(r[8], ".2f"), str(r[9])) for r in rows]
     widths = [max(len(row[i]) for row in table) for i in range(len(head))]
     print()
     for i, row in enumerate(table):

@@ -1,8 +1,8 @@
 """Parameter sweeps on Dask: the sweep file, a real LocalCluster, failing points, kill and resume.
 
 The cluster tests share one ``LocalCluster(n_workers=2, processes=True, threads_per_worker=1)``
-and one reference sweep of 12 tiny simulations (0.1 s of motion, 5 output points), of which the
-4 with a water-like viscosity at the higher crank speeds end in film breakdown.
+and one reference sweep of 48 tiny simulations (0.1 s of motion, 5 output points); with a
+water-like viscosity the film breaks down at the higher crank speeds.
 """
 
 import json
@@ -28,12 +28,14 @@ distributed = pytest.importorskip("distributed")
 pytest.importorskip("zarr")
 xr = pytest.importorskip("xarray")
 
+#: Tests on the shared cluster; ``pytest -n 2 --dist loadgroup`` keeps them in one process (one cluster).
+on_cluster = pytest.mark.xdist_group("sweep-cluster")
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 TINY = {"solver.t_end": 0.1, "output.x_points": 5, "output.pad_points": 5}
 QUANTITIES = ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
               "peak_film_force", "end_time"]
 
-#: 2 x 3 x 2 = 12 points; viscosity 1 mPa s breaks down at 30 and 40 rad/s (4 failing points).
+#: 2 x 6 x 4 = 48 points; with 1 mPa s the film breaks down from 25-30 rad/s on (failing points).
 SWEEP_TOML = """
 base = "paper"
 description = "test sweep"
@@ -45,8 +47,8 @@ description = "test sweep"
 
 [vary]
 "film.viscosity" = [0.001, 0.1]
-mechanism.crank_speed = { start = 20.0, stop = 40.0, num = 3 }
-"film.clearance" = { start = 1e-3, stop = 3e-3, num = 2, scale = "log" }
+mechanism.crank_speed = { start = 20.0, stop = 45.0, num = 6 }
+"film.clearance" = { start = 1e-3, stop = 3e-3, num = 4, scale = "log" }
 
 [store]
 quantities = ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
@@ -57,6 +59,21 @@ time_series = ["u2_mid"]
 
 def sweep_dict(**vary):
     return {"base": "paper", "set": dict(TINY), "vary": vary}
+
+
+N = 48  # points of SWEEP_TOML
+
+
+def stored(store):
+    """Points committed to a store being written: journal lines plus the folded ``done`` mask."""
+    import zarr
+
+    journal = store / "journal.jsonl"
+    n = journal.read_bytes().count(b"\n") if journal.exists() else 0
+    try:
+        return n + int(np.asarray(zarr.open_array(str(store / "done"), mode="r")[...]).sum())
+    except Exception:  # not created yet
+        return n
 
 
 def ends(trace):
@@ -143,7 +160,8 @@ def test_every_invalid_point_is_reported_before_anything_runs(tmp_path):
 
 
 def test_summary_quantities_of_one_run():
-    ds = lubelink.simulate("paper-impact", set={"solver.t_end": 0.7, "output.x_points": 5})
+    ds = lubelink.simulate("paper-impact", set={"solver.t_end": 0.7, "output.x_points": 5,
+                                                "film.clearance": 5e-3, "film.viscosity": 1e-3})
     s = summarise(ds, ("peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
                        "peak_film_force", "end_time", "nfev", "impact_times"), max_impacts=4)
     assert s["status"] == "complete" and s["impact_count"] == ds.attrs["impact_count"] >= 2
@@ -168,7 +186,7 @@ def test_journal_commits_points_and_a_torn_line_is_ignored(tmp_path):
     sp = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2, 0.3]}))
     st = _Store.open(tmp_path / "j.zarr", sp)
     record = _empty_record(sp.quantities, sp.max_impacts, "complete", "ok", 1.0)
-    st.write(2, {**record, "peak_u2_mid": 1.5e-3, "impact_count": 4}, {})
+    st.write([(2, {**record, "peak_u2_mid": 1.5e-3, "impact_count": 4}, {})])
     with pytest.raises(SweepError, match="being written by another sweep"):
         _Store.open(tmp_path / "j.zarr", sp)
     with open(tmp_path / "j.zarr" / "journal.jsonl", "a") as f:
@@ -195,16 +213,20 @@ def test_examples_are_valid_sweeps(path):
 # ====================================================================== on a real LocalCluster
 @pytest.fixture(scope="module")
 def client():
+    import dask
     from distributed import Client, LocalCluster
 
-    with LocalCluster(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=":0") as cluster, \
+    from lubelink.sweep import LOCAL_CLUSTER_CONFIG
+
+    with dask.config.set(LOCAL_CLUSTER_CONFIG), \
+            LocalCluster(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=":0") as cluster, \
             Client(cluster) as c:
         yield c
 
 
 @pytest.fixture(scope="module")
 def reference(client, tmp_path_factory):
-    """The 12-point sweep, uninterrupted, on the shared cluster."""
+    """The 48-point sweep, uninterrupted, on the shared cluster."""
     folder = tmp_path_factory.mktemp("reference")
     (folder / "sweep.toml").write_text(SWEEP_TOML)
     trace = folder / "trace.log"
@@ -212,21 +234,23 @@ def reference(client, tmp_path_factory):
     return folder, ds, trace
 
 
+@on_cluster
 def test_sweep_on_a_local_cluster_stores_every_point_once(reference):
     folder, ds, trace = reference
-    assert ds.sizes == {"film.viscosity": 2, "mechanism.crank_speed": 3, "film.clearance": 2, "time": 101}
+    assert ds.sizes == {"film.viscosity": 2, "mechanism.crank_speed": 6, "film.clearance": 4, "time": 101}
     assert bool(ds.done.all())
-    assert sorted(ends(trace)) == list(range(12))  # each point computed exactly once
+    assert sorted(ends(trace)) == list(range(N))  # each point computed exactly once
     assert ds["mechanism.crank_speed"].attrs["units"] == "rad/s" and ds.peak_pressure.attrs["units"] == "Pa"
     assert ds["film.clearance"].attrs["scale"] == "log"
     again = run_sweep(folder / "sweep.toml", folder / "ref.zarr", progress=False, trace=trace)  # resume: nothing left
-    assert sorted(ends(trace)) == list(range(12))
+    assert sorted(ends(trace)) == list(range(N))
     same_results(again, ds)
 
 
+@on_cluster
 def test_results_match_the_same_points_run_in_process(reference):
     _, ds, _ = reference
-    for mu, w, H in [(0.001, 20.0, 1e-3), (0.001, 40.0, 3e-3), (0.1, 30.0, 1e-3), (0.1, 40.0, 3e-3)]:
+    for mu, w, H in [(0.001, 20.0, 1e-3), (0.001, 40.0, 3e-3), (0.1, 30.0, 1e-3), (0.1, 45.0, 3e-3)]:
         one = lubelink.simulate("paper", set={**TINY, "film.viscosity": mu, "mechanism.crank_speed": w,
                                               "film.clearance": H})
         expected = summarise(one, QUANTITIES)
@@ -239,18 +263,20 @@ def test_results_match_the_same_points_run_in_process(reference):
             == lubelink.config.resolve(lubelink.results.config_of(one))
 
 
+@on_cluster
 def test_failing_points_are_recorded_and_the_others_complete(reference):
     _, ds, _ = reference
-    status = ds.status.sel({"film.viscosity": 0.001})
-    failed = status.values != "complete"
-    assert failed.sum() == 4 and set(status.values[failed]) == {"film_breakdown"}
-    assert (ds.status.sel({"film.viscosity": 0.1}) == "complete").all()
-    msg = ds.message.sel({"film.viscosity": 0.001, "mechanism.crank_speed": 40.0, "film.clearance": 1e-3}).item()
-    assert "contact.min_film" in msg
-    broken = ds.sel({"film.viscosity": 0.001, "mechanism.crank_speed": 40.0, "film.clearance": 1e-3})
+    water, oil = ds.sel({"film.viscosity": 0.001}), ds.sel({"film.viscosity": 0.1})
+    assert (oil.status == "complete").all() and (water.status.sel({"mechanism.crank_speed": 20.0}) == "complete").all()
+    fast = water.sel({"mechanism.crank_speed": [30.0, 35.0, 40.0, 45.0]})
+    assert (fast.status == "film_breakdown").all()
+    assert all("contact.min_film" in m for m in fast.message.values.reshape(-1))
+    broken = fast.sel({"mechanism.crank_speed": 40.0, "film.clearance": 1e-3})
     assert broken.end_time.item() < 0.1 and np.isnan(broken.u2_mid.values[-1])  # partial series kept
+    assert np.isfinite(broken.u2_mid.values[0]) and np.isfinite(broken.peak_u2_mid.item())
 
 
+@on_cluster
 def test_timeouts_netcdf_output_resume_and_retry(client, tmp_path):
     data = {"base": "paper", "set": dict(TINY),
             "points": [{"solver.max_wall_time": 1e-6}, {"solver.max_wall_time": 100.0}]}
@@ -268,6 +294,7 @@ def test_timeouts_netcdf_output_resume_and_retry(client, tmp_path):
     assert retried.status.values[1] == "complete"
 
 
+@on_cluster
 def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, client, tmp_path):
     """SIGKILL the whole CLI process group (client, scheduler and workers) once points are stored,
     then resume with the CLI on the shared cluster (--scheduler)."""
@@ -277,17 +304,14 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, cli
     cmd = [sys.executable, "-m", "lubelink", "sweep", "sweep.toml", "-o", "k.zarr", "-q"]
     proc = subprocess.Popen(cmd + ["--workers", "2", "--trace", str(first)], cwd=tmp_path, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    stored = 0
     deadline = time.monotonic() + 180
-    while proc.poll() is None and time.monotonic() < deadline and stored < 3:
-        time.sleep(0.25)
-        if store.exists():
-            stored = int(load_sweep(store).done.sum())
+    while proc.poll() is None and time.monotonic() < deadline and stored(store) < 3:
+        time.sleep(0.02)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     before = load_sweep(store)
     done_before = set(np.flatnonzero(before.done.values.reshape(-1)).tolist())
-    assert 3 <= len(done_before) < 12, "the sweep was not interrupted midway"
+    assert 3 <= len(done_before) < N, "the sweep was not interrupted midway"
     assert set(ends(first)) >= done_before
 
     address = client.scheduler.address
@@ -299,14 +323,16 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, cli
     again = ends(second)
     assert len(again) == len(set(again))  # nothing computed twice in the resumed run
     assert not set(again) & done_before  # no stored point computed again
-    assert set(again) | done_before == set(range(12))  # none lost
-    # Only points that had finished on a worker but not reached the store when killed run twice.
-    assert len(set(ends(first)) - done_before) <= 2
+    assert set(again) | done_before == set(range(N))  # none lost
+    # Points computed in the killed run but not stored (their task was still running, or its result
+    # on its way to the client) are computed once more; no point more than that.
+    assert max((ends(first) + again).count(i) for i in range(N)) <= 2
     runs = json.loads(resumed.attrs["runs"])
-    assert runs[-1]["computed"] == 12 - len(done_before) and runs[-1]["resumed"] == len(done_before)
+    assert runs[-1]["computed"] == N - len(done_before) and runs[-1]["resumed"] == len(done_before)
     assert runs[-1]["scheduler"] == f"Dask scheduler {address}"
 
 
+@on_cluster
 def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tmp_path):
     data = sweep_dict(**{"mechanism.crank_speed": [20.0, 25.0, 30.0, 35.0]})
     trace = tmp_path / "trace.log"
@@ -336,6 +362,7 @@ def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tm
 
 
 # ====================================================================== command line
+@on_cluster
 def test_plot_sweep_draws_maps_curves_and_status(reference, tmp_path, capsys):
     folder, _, _ = reference
     store = str(folder / "ref.zarr")
@@ -383,5 +410,5 @@ def test_check_prints_the_plan_without_computing(tmp_path, monkeypatch, capsys):
     Path("s.toml").write_text(SWEEP_TOML)
     assert cli_main(["sweep", "s.toml", "--check"]) == 0
     out = capsys.readouterr().out
-    assert "points            12, all valid" in out and "film.clearance: 2 (log" in out
+    assert "points            48, all valid" in out and "film.clearance: 4 (log" in out
     assert not Path("s.zarr").exists()

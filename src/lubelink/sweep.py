@@ -2,10 +2,11 @@
 
 A sweep file (TOML) names a base configuration and the parameters to vary
 (lists, linear or log ranges, explicit points); every point of the full
-factorial grid is one simulation, run as one Dask task. The summary quantities
-of each point are written to one labelled store over the swept dimensions as
-soon as the point finishes, so a crash loses nothing already computed and
-running the same sweep again resumes it. docs/sweeps.md is the reference.
+factorial grid is one simulation, run in Dask tasks (one point each, or a few
+when points are short). The summary quantities of each point are written to
+one labelled store over the swept dimensions as soon as its task finishes, so
+a crash loses nothing already stored and running the same sweep again resumes
+it. docs/sweeps.md is the reference.
 
 ==========================  =================================================
 piece                       job
@@ -38,7 +39,6 @@ from __future__ import annotations
 import contextlib
 import difflib
 import hashlib
-import itertools
 import json
 import logging
 import math
@@ -63,6 +63,7 @@ __all__ = [
     "SweepError",
     "QUANTITIES",
     "SERIES",
+    "LOCAL_CLUSTER_CONFIG",
     "read_sweep",
     "summarise",
     "run_sweep",
@@ -115,9 +116,6 @@ SERIES = {
     "pressure": ("X", ("film.pad_length", "output.pad_points")),
 }
 _TIME_KEYS = ("solver.t_end", "solver.output_step")
-#: Statuses of points that did not run to the end (``complete`` is the other one).
-FAILED_STATUSES = ("film_breakdown", "chatter", "solver_failure", "timeout", "error",
-                   "worker_died", "invalid")
 
 _TOP_KEYS = ("base", "description", "invalid_points", "set", "vary", "points", "store")
 _STORE_KEYS = ("quantities", "time_series", "max_impacts")
@@ -128,6 +126,14 @@ JOURNAL = "journal.jsonl"
 LOCK = "lock"
 #: Seconds between folds of the journal into the Zarr arrays.
 COMPACT_INTERVAL = 10.0
+#: Dask settings of the local cluster that :func:`run_sweep` starts: Dask's diagnostics sampling
+#: (event-loop tick every 20 ms, system monitor, worker profiler) costs about a tenth of a core per
+#: process on a small machine, taken from the simulations; a sweep does without it.
+LOCAL_CLUSTER_CONFIG = {
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.worker.profile.enabled": False,
+}
 
 
 class SweepError(RuntimeError):
@@ -717,6 +723,13 @@ def _compute_point(flat, config, opts, trace=None):
     return record, series
 
 
+def _compute_points(flats, configs, opts, trace=None):
+    """Worker task: several points in a row, ``([(flat, record, series), ...], seconds)``."""
+    t0 = time.perf_counter()
+    out = [(flat, *_compute_point(flat, config, opts, trace)) for flat, config in zip(flats, configs)]
+    return out, time.perf_counter() - t0
+
+
 def _describe(exc):
     import traceback
 
@@ -1033,17 +1046,20 @@ class _Store:
         status = np.asarray(self.array("status")[...], dtype=object).reshape(-1)
         return done, status
 
-    def write(self, flat: int, record: dict, series: dict):
-        """Store one point: its time series (if any), then its journal line (the commit)."""
-        if self.sweep.time_series:
-            index = tuple(int(i) for i in np.unravel_index(flat, self.sweep.shape))
-            for name in self.sweep.time_series:
-                if name in series:
-                    self.array(name)[index] = series[name]
-                else:  # a point without results: clear what a previous attempt may have left
-                    self.array(name)[index] = np.nan
-        line = json.dumps({"i": int(flat), **record}, default=_plain)
-        os.write(self._journal_fd, (line + "\n").encode())
+    def write(self, results):
+        """Store points ``[(flat, record, series), ...]``: their time series (if any), then one
+        journal line each, in one append (the commit)."""
+        lines = []
+        for flat, record, series in results:
+            if self.sweep.time_series:
+                index = tuple(int(i) for i in np.unravel_index(flat, self.sweep.shape))
+                for name in self.sweep.time_series:
+                    if name in series:
+                        self.array(name)[index] = series[name]
+                    else:  # a point without results: clear what a previous attempt may have left
+                        self.array(name)[index] = np.nan
+            lines.append(json.dumps({"i": int(flat), **record}, default=_plain) + "\n")
+        os.write(self._journal_fd, "".join(lines).encode())
         if time.monotonic() - self._last_compact > COMPACT_INTERVAL:
             self.compact()
 
@@ -1098,18 +1114,12 @@ def _is_netcdf(path) -> bool:
 
 
 def _export_netcdf(side: Path, path: Path):
-    """Write the side store's results to ``path`` atomically (temporary file + rename)."""
-    import tempfile
+    """Write the side store's results to ``path`` atomically (:func:`lubelink.results.atomic_path`)."""
+    from .results import atomic_path
 
     ds = load_sweep(side)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return ds
 
 
@@ -1233,10 +1243,13 @@ def _dask_client(client, scheduler, workers):
         finally:
             c.close()
         return
+    import dask
+
     n = workers or _cpu_count()
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           silence_logs=logging.ERROR, dashboard_address=":0")
-    c = Client(cluster)
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               silence_logs=logging.ERROR, dashboard_address=":0")
+        c = Client(cluster)
     try:
         yield c, f"LocalCluster, {n} worker process(es)"
     finally:
@@ -1245,7 +1258,7 @@ def _dask_client(client, scheduler, workers):
 
 
 def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, retry_failed=False,
-              overwrite=False, progress=True, trace=None):
+              overwrite=False, progress=True, trace=None, task_seconds=0.5):
     """Run a parameter sweep on Dask and return every point's results.
 
     Points already in ``store`` are skipped (the run resumes); each finished
@@ -1277,6 +1290,11 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
     trace : str or os.PathLike, optional
         Audit file: every point computation appends a ``start`` and an ``end``
         line (it must be on a file system that the workers can write).
+    task_seconds : float
+        Once the points' duration is known, a Dask task computes as many
+        points as take about this long [s] (at least one), so that Dask's
+        per-task overhead stays small for short points; 0 sends one point
+        per task. A crash loses at most the tasks being computed.
 
     Returns
     -------
@@ -1341,15 +1359,15 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
     t0 = time.perf_counter()
     try:
         done, status = st.state()
-        for flat in _unrecorded(invalid, done):
-            st.write(flat, _empty_record(sp.quantities, sp.max_impacts, "invalid", "; ".join(invalid[flat]), 0.0), {})
+        st.write([(flat, _empty_record(sp.quantities, sp.max_impacts, "invalid", "; ".join(invalid[flat]), 0.0), {})
+                  for flat in _unrecorded(invalid, done)])
         done, status = st.state()
         pending = _pending(sp, configs, done, status, retry_failed)
         session["resumed"] = int(done.sum()) - int(done[pending].sum()) if pending else int(done.sum())
         if pending:
             with _dask_client(client, scheduler, workers) as (cl, where):
                 session["scheduler"] = where
-                _execute(cl, st, sp, configs, pending, done, status, progress, trace, session)
+                _execute(cl, st, sp, configs, pending, done, status, progress, trace, session, task_seconds)
     except KeyboardInterrupt:
         session["interrupted"] = True
         raise
@@ -1393,8 +1411,15 @@ def _bar(progress, total, desc, initial=0):
                            "{rate_fmt}{postfix}]")
 
 
-def _execute(client, st, sp, configs, pending, done, status, progress, trace, session):
-    """Submit the pending points in a moving window; store each one as it completes."""
+def _execute(client, st, sp, configs, pending, done, status, progress, trace, session, task_seconds):
+    """Submit the pending points in a moving window of tasks; store each task's points as it completes.
+
+    A task computes one point, or, once the points are known to be short, as many as take about
+    ``task_seconds`` on a worker, so that Dask's per-task cost (a few milliseconds of scheduler,
+    network and worker time) stays small beside the simulations.
+    """
+    from collections import deque
+
     from distributed import as_completed
 
     opts = _TaskOptions(quantities=sp.quantities, time_series=sp.time_series, max_impacts=sp.max_impacts,
@@ -1402,13 +1427,14 @@ def _execute(client, st, sp, configs, pending, done, status, progress, trace, se
                         output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
     trace = str(Path(trace).resolve()) if trace else None
     token = uuid.uuid4().hex[:8]
-    queue = iter(pending)
+    queue = deque(pending)
+    single = deque()  # points of a batch that killed its workers: run again one per task
     active = {}
     ac = as_completed(with_results=True, raise_errors=False)
-    stored_failed = sum(1 for f in range(sp.size) if done[f] and str(status[f]) != "complete")
     retried = set(pending) & set(np.flatnonzero(done).tolist())
-    failed = stored_failed - len(retried)
+    failed = sum(1 for f in range(sp.size) if done[f] and str(status[f]) != "complete") - len(retried)
     n_done = int(done.sum()) - len(retried)
+    per_point = None  # seconds per point on a worker (moving average)
 
     def threads():
         try:
@@ -1416,14 +1442,31 @@ def _execute(client, st, sp, configs, pending, done, status, progress, trace, se
         except Exception:  # noqa: BLE001 - a scheduler without workers yet
             return 1
 
-    def submit(n):
-        for flat in itertools.islice(queue, n):
-            fut = client.submit(_compute_point, flat, configs[flat], opts, trace, pure=False,
-                                key=f"lubelink-sweep-{sp.hash[:8]}-{token}-{flat}")
-            active[fut] = flat
-            ac.add(fut)
+    def batch():
+        if single:
+            return [single.popleft()]
+        n = 1
+        if per_point is not None and task_seconds > 0:
+            n = int(task_seconds / max(per_point, 1e-6))
+            n = min(n, 256, len(queue) // (2 * nthreads))  # keep every worker busy to the end
+        return [queue.popleft() for _ in range(min(max(1, n), len(queue)))]
 
-    window = 2 * threads() + 2
+    def submit(n_tasks):
+        """Submit up to ``n_tasks`` more tasks in one graph update."""
+        tasks = []
+        while len(tasks) < n_tasks and (queue or single):
+            tasks.append(batch())
+        if not tasks:
+            return
+        futures = client.map(_compute_points, tasks, [[configs[f] for f in t] for t in tasks], opts=opts,
+                             trace=trace, pure=False,
+                             key=[f"lubelink-sweep-{sp.hash[:8]}-{token}-{t[0]}-{len(t)}" for t in tasks])
+        for task, fut in zip(tasks, futures):
+            active[fut] = task
+        ac.update(futures)
+
+    nthreads = threads()
+    window = 3 * nthreads + 2
     last_window = time.monotonic()
     submit(window)
     bar = _bar(progress, sp.size, "sweep", initial=n_done)
@@ -1431,28 +1474,36 @@ def _execute(client, st, sp, configs, pending, done, status, progress, trace, se
     lost = 0
     try:
         for fut, result in ac:
-            flat = active.pop(fut)
+            task = active.pop(fut)
             if fut.status == "finished":
-                record, series = result
+                results, seconds = result
+                per_point = seconds / len(task) if per_point is None else \
+                    0.8 * per_point + 0.2 * seconds / len(task)
+            elif fut.status == "error" and len(task) > 1:  # find which point kills its workers
+                single.extend(task)
+                results = []
             elif fut.status == "error":
                 exc = result[1] if isinstance(result, tuple) else result
                 state = "worker_died" if type(exc).__name__ == "KilledWorker" else "error"
-                record, series = _empty_record(sp.quantities, sp.max_impacts, state, _describe(exc)), {}
+                results = [(task[0], _empty_record(sp.quantities, sp.max_impacts, state, _describe(exc)), {})]
             else:  # cancelled or lost with the connection: not stored, computed on the next run
-                lost += 1
-                continue
-            st.write(flat, record, series)
-            session["computed"] += 1
-            n_done += 1
-            if record["status"] != "complete":
-                failed += 1
-                session["failed"] += 1
-            bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
-            bar.update(1)
-            del fut, result, record, series
+                lost += len(task)
+                results = []
+            if results:
+                st.write(results)
+                new_failed = sum(1 for _, record, _ in results if record["status"] != "complete")
+                session["computed"] += len(results)
+                session["failed"] += new_failed
+                n_done += len(results)
+                failed += new_failed
+                bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
+                bar.update(len(results))
+            del fut, result, results
             if time.monotonic() - last_window > 30.0:  # follow a cluster that scales
-                window, last_window = 2 * threads() + 2, time.monotonic()
-            submit(max(1, window - len(active)))
+                nthreads, last_window = threads(), time.monotonic()
+                window = 3 * nthreads + 2
+            if len(active) <= window // 2:  # refill in batches: fewer messages to the scheduler
+                submit(window - len(active))
     except BaseException:
         with contextlib.suppress(Exception):
             client.cancel(list(active))
@@ -1484,15 +1535,17 @@ def _axis_values(ds, dim, lists_as_categories):
     labelled; ranges keep their linear or log scale; a numeric list spanning two
     decades or more is drawn on a log axis.
     """
+    def text(v):
+        return _fmt(v.item() if hasattr(v, "item") else v)
+
     c = ds[dim]
     if dim == "point":  # explicit points: label each with its parameter values
         params = [n for n, v in ds.coords.items() if v.dims == ("point",) and n != "point"]
-        labels = [", ".join(f"{n.split('.')[-1]}={_fmt(ds[n].values[i].item() if hasattr(ds[n].values[i], 'item') else ds[n].values[i])}"
-                            for n in params) for i in range(c.size)]
+        labels = [", ".join(f"{n.split('.')[-1]}={text(ds[n].values[i])}" for n in params) for i in range(c.size)]
         return np.arange(c.size, dtype=float), labels, False
     scale = c.attrs.get("scale", "list")
     if c.dtype.kind not in "fiu" or (lists_as_categories and scale == "list" and c.size > 1):
-        return np.arange(c.size, dtype=float), [_fmt(v.item() if hasattr(v, "item") else v) for v in c.values], False
+        return np.arange(c.size, dtype=float), [text(v) for v in c.values], False
     v = c.values.astype(float)
     wide = scale == "list" and v.size > 1 and v.min() > 0 and v.max() / v.min() >= 100
     return v, None, scale == "log" or wide
@@ -1831,6 +1884,9 @@ def _cmd_plot_sweep(args):
     out = Path(args.output) if args.output else Path(f"{path.name.split('.')[0]}-{quantity}.png")
     if not out.parent.is_dir():
         raise _usage(f"-o {out}: folder {out.parent} does not exist")
-    fig.savefig(out, dpi=120, bbox_inches="tight")
+    from .results import atomic_path
+
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=120, bbox_inches="tight", format=out.suffix.lstrip(".").lower() or "png")
     print(f"wrote {out}")
     return 0
