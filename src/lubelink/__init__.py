@@ -18,6 +18,9 @@ module             job
 ``integrate``      step driver, Bulirsch-Stoer
 ``simulate``       orchestrator: configuration -> Dataset
 ``results``        NetCDF save/load
+``paper``          the paper's figures, Fig. 9 calibration, animation
+``plots``          plotting functions on result Datasets
+``sweep``          parameter sweeps on Dask, resumable stores
 =================  ===========================================================
 """
 
@@ -25,6 +28,7 @@ from .config import ConfigError, SCENARIOS, load as load_config, resolve as reso
 from .params import Beam, Collar, Config, Contact, Film, Mechanism, Output, Solver
 from .results import ResultsFileError, load, save
 from .simulate import simulate
+from .sweep import load_sweep, run_sweep
 
 try:
     from importlib.metadata import version as _version
@@ -35,6 +39,8 @@ except Exception:  # not installed (running from a source tree)
 
 __all__ = [
     "simulate",
+    "run_sweep",
+    "load_sweep",
     "load",
     "save",
     "load_config",

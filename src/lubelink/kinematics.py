@@ -16,6 +16,7 @@ Providers:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -247,6 +248,7 @@ def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None):
     )
 
 
+@lru_cache(maxsize=4096)
 def collar_travel(mechanism: Mechanism, samples: int = 4097):
     """Smallest and largest collar position over one crank turn [m].
 

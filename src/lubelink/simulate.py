@@ -123,7 +123,7 @@ def run(config, motion=None, progress=None) -> Run:
     N = model.modes
     deadline = start + s.max_wall_time if np.isfinite(s.max_wall_time) else None
     n_out = int(np.floor(s.t_end / s.output_step * (1 + 1e-12))) + 1
-    t_eval = np.arange(n_out) * s.output_step
+    t_eval = np.minimum(np.arange(n_out) * s.output_step, s.t_end)  # 0.7/1e-3 * 1e-3 > 0.7
     monitored = config.film.enabled or ct.law != "none"
     # the gap moves on the time scale of the fastest mode: sample it at least 8 times a period
     event_resolution = 2.0 * np.pi / model.omega_n[-1] / 8.0
@@ -252,7 +252,14 @@ def to_dataset(result: Run):
         if len(p) == 2:
             data["pressure_lower"] = variable(("time", "X"), p[1], "Pa",
                                               "gauge film pressure of the film at H/2 + u2")
-        force = np.array([model.film_loads(ti, yi)[1] for ti, yi in zip(result.t, result.y)])
+        if fm.cavitation == "none":
+            force = sum(side * film.resultant_force(side * q, side * q_dot, x0, kin.V_r, mu=fm.viscosity,
+                                                    clearance=fm.clearance, pad_length=fm.pad_length,
+                                                    width=cfg.beam.width, rod_length=L, squeeze=squeeze,
+                                                    nodes=fm.quadrature_nodes)
+                        for side in model.sides)
+        else:
+            force = np.array([model.film_loads(ti, yi)[1] for ti, yi in zip(result.t, result.y)])
         data["film_force"] = variable(("time",), force, "N", "resultant film force on the link along +j")
     imp = result.impacts
     coords["impact"] = variable(("impact",), np.arange(len(imp)), "1", "impact number")
