@@ -14,8 +14,11 @@ Printed, in this order (the figures recorded in ``benchmarks/README.md`` come fr
    fastest compiled path.
 3. **Scaling** -- the compiled paths against the number of modes (1, 3, 5, 7, 15) and the simulated
    time (0.5, 1, 2, 4 s): time, evaluations, time per evaluation and per step.
-4. **Results** -- ``simulate()`` is ``run()`` plus ``to_dataset()``: both timed, and the film-force
-   loop of ``to_dataset`` against the batched kernel ``_kernels.film_force_many``.
+4. **Results** -- ``simulate()`` is ``run()`` plus ``to_dataset()``: both timed, and the two film
+   quantities of the samples, which dominate ``to_dataset``: the resultant film force (per-sample
+   loop over ``Model.film_loads``, batched NumPy ``film.resultant_force``, batched kernel
+   ``_kernels.film_force_many``) and the pad pressure (``film.pad_pressure``, batched kernel
+   ``_kernels.pad_pressure_many``).
 5. **Evaluations against tolerance** -- DOP853 and Bulirsch-Stoer (compiled) on ``paper`` with 1
    and 7 modes for rtol 1e-6 ... 1e-12.
 6. **Compilation** -- a cold compile and a cached load, each in a fresh process with its own
@@ -252,27 +255,47 @@ def bench_tolerance(args):
 
 
 def bench_results(args):
-    from lubelink import _kernels
+    from lubelink import _kernels, film
     from lubelink.simulate import run, to_dataset
 
-    print("\n4. simulate() = run() + to_dataset(): the results Dataset (compiled DOP853)")
-    print(f"   {'case':<16} {'run()':>12} {'to_dataset()':>14} {'film_force loop':>16} {'film_force_many':>16}")
+    print("\n4. simulate() = run() + to_dataset(): the results Dataset (compiled DOP853). film_force of the")
+    print("   samples: per-sample loop, film.resultant_force (NumPy, batched), _kernels.film_force_many;")
+    print("   pressure(time, X): film.pad_pressure (NumPy, batched) and _kernels.pad_pressure_many")
+    print(f"   {'case':<16} {'run()':>12} {'to_dataset()':>14} {'force: loop':>12} {'NumPy':>12} {'kernel':>12}"
+          f" {'pressure: NumPy':>16} {'kernel':>12}")
     for modes in (1, 7):
         cfg = config("paper", modes)
         wall_run, _, result = timed(lambda: run(cfg), args.repeats)
         wall_ds, _, _ = timed(lambda: to_dataset(result), max(1, args.repeats - 2))
-        model = result.model
+        model, fm = result.model, cfg.film
+        N = model.modes
+        q, q_dot = result.y[:, :N], result.y[:, N:]
+        kin = model.motion(result.t)
+        x0 = film.pad_start(np.asarray(kin.x_star), fm.pad_length, fm.pad_reference)
 
         def loop():
             return np.array([model.film_loads(t, y)[1] for t, y in zip(result.t, result.y)])
 
+        def numpy_batch():
+            return film.resultant_force(q, q_dot, x0, kin.V_r, mu=fm.viscosity, clearance=fm.clearance,
+                                        pad_length=fm.pad_length, width=cfg.beam.width,
+                                        rod_length=cfg.mechanism.rod_length, nodes=fm.quadrature_nodes)
+
         wall_loop, _, forces = timed(loop, 1)
+        wall_np, _, forces_np = timed(numpy_batch, args.repeats)
         p = _kernels.pack(model)
         y = np.ascontiguousarray(result.y)
-        wall_many, _, batch = timed(lambda: _kernels.film_force_many(result.t, y, p), args.repeats)
-        assert np.allclose(batch, forces, rtol=1e-9, atol=1e-12)
-        print(f"   {f'paper N={modes}':<16} {fmt_time(wall_run)} {fmt_time(wall_ds):>14} {fmt_time(wall_loop):>16} "
-              f"{fmt_time(wall_many):>16}")
+        wall_k, _, forces_k = timed(lambda: _kernels.film_force_many(result.t, y, p), args.repeats)
+        assert np.allclose(forces_k, forces, rtol=1e-9, atol=1e-12) and np.allclose(forces_np, forces, rtol=1e-9,
+                                                                                       atol=1e-12)
+        X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
+        wall_pnp, _, pres = timed(lambda: film.pad_pressure(X, q, q_dot, x0, kin.V_r, mu=fm.viscosity,
+                                                            clearance=fm.clearance,
+                                                            rod_length=cfg.mechanism.rod_length), args.repeats)
+        wall_pk, _, pres_k = timed(lambda: _kernels.pad_pressure_many(model, result.t, result.y, X), args.repeats)
+        assert np.allclose(pres_k, pres, rtol=0, atol=1e-11 * np.max(np.abs(pres)))
+        print(f"   {f'paper N={modes}':<16} {fmt_time(wall_run)} {fmt_time(wall_ds):>14} {fmt_time(wall_loop)} "
+              f"{fmt_time(wall_np)} {fmt_time(wall_k)} {fmt_time(wall_pnp):>16} {fmt_time(wall_pk)}")
 
 
 def bench_compile(args):

@@ -23,7 +23,7 @@ pytest.importorskip("numba")
 import numba  # noqa: E402
 
 from lubelink import _kernels as K  # noqa: E402
-from lubelink import film, kinematics  # noqa: E402
+from lubelink import contact, film, kinematics  # noqa: E402
 from lubelink.config import resolve  # noqa: E402
 from lubelink.integrate import fast  # noqa: E402
 from lubelink.integrate.bulirsch_stoer import BulirschStoer  # noqa: E402
@@ -62,6 +62,13 @@ def random_states(model, count, rng, amplitude=1.5e-3):
         q = rng.uniform(-1, 1, N) * amp
         q_dot = rng.uniform(-1, 1, N) * amp * model.omega_n[0]
         yield rng.uniform(0.0, 2.0), np.concatenate([q, q_dot])
+
+
+def contact_xi(model, t, q_side):
+    """Thinnest film of one side (``q_side = side * q``) by the reference functions [m]."""
+    fm = model.config.film
+    x0 = film.pad_start(float(model.motion(t).x_star), fm.pad_length, fm.pad_reference)
+    return contact.thinnest_film(q_side, x0, fm.pad_length, fm.clearance, model.config.mechanism.rod_length)[0]
 
 
 def film_term_scale(model, t, y):
@@ -173,7 +180,7 @@ def test_contact_force_kernel_matches_reference(side, modes):
         p = K.pack(model, phase=phase)
         F_ref, force_ref = model.contact_force(t, y, phase)
         F, force = K.contact_force(t, y, p)
-        xi = model._thinnest(t, side * y[:modes])[0]
+        xi = contact_xi(model, t, side * y[:modes])
         delta = ct.min_film - xi
         touching += delta > 0
         # the force is stiff in the penetration, itself H/2 - u2 minus min_film: propagate the few
@@ -200,6 +207,28 @@ def test_film_force_many_is_film_loads_per_sample():
     for t, y, value in zip(ts, ys, batch):
         total_scale = film_term_scale(model, t, y)[1]
         assert abs(value - model.film_loads(t, y)[1]) <= 64 * EPS * total_scale
+
+
+@pytest.mark.parametrize("overrides", [{"film.model": "wedge+squeeze", "film.sides": 2},
+                                       {"film.cavitation": "half-sommerfeld", "film.cavitation_pressure": 9e4}])
+def test_pad_pressure_many_is_the_results_pressure(overrides):
+    model = model_of(overrides, 3)
+    fm, L = model.config.film, model.config.mechanism.rod_length
+    rng = np.random.default_rng(4)
+    ts, ys = (np.array(v) for v in zip(*random_states(model, 30, rng)))
+    N = model.modes
+    kin = model.motion(ts)
+    x0 = film.pad_start(np.asarray(kin.x_star), fm.pad_length, fm.pad_reference)
+    X = np.linspace(0.0, fm.pad_length, 21)
+    for side in model.sides:
+        ref = film.pad_pressure(X, side * ys[:, :N], side * ys[:, N:], x0, kin.V_r, mu=fm.viscosity,
+                                clearance=fm.clearance, rod_length=L, squeeze=fm.model == "wedge+squeeze")
+        if fm.cavitation == "half-sommerfeld":
+            ref = np.maximum(ref, fm.cavitation_pressure - fm.ambient_pressure)
+        got = K.pad_pressure_many(model, ts, ys, X, side)
+        # cumulative quadratures of positive terms (xi^-2, xi^-3) and of the squeeze flux: a few
+        # eps of the pressure scale
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
 
 
 # ----------------------------------------------------------------------------------------------

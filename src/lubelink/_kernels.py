@@ -18,6 +18,8 @@ kernel                      reference
                             the gap times the event sign of the segment)
 :func:`film_force_many`     ``Model.film_loads(t, y)[1]`` for many samples
                             (the ``film_force`` of the results)
+:func:`pad_pressure_many`   :func:`lubelink.film.pad_pressure` for many
+                            samples (the ``pressure`` of the results)
 ==========================  ===============================================
 
 Data layout
@@ -67,6 +69,7 @@ __all__ = [
     "gap",
     "event",
     "film_force_many",
+    "pad_pressure_many",
     "set_segment",
 ]
 
@@ -413,7 +416,8 @@ def _film_side(side, N, V_r, p, ws, F, oF):
             total += dj * p[offx + j]
         _project(p, offv, offs, int(p[I_OFF_VS]), N, nodes, ws, od, oacc)
         for n in range(N):
-            F[oF + n] += side * B * (ws[osc + N + n] * ws[oacc + n] + ws[osc + n] * ws[oacc + N + n]) / ((n + 1) * beta1)
+            W_n = ws[osc + N + n] * ws[oacc + n] + ws[osc + n] * ws[oacc + N + n]  # beta_n int p_g' W_n
+            F[oF + n] += side * B * W_n / ((n + 1) * beta1)
         return side * B * total
     # half-Sommerfeld: the pressure at the nodes by the spectral integration matrix, clipped
     off = int(p[I_OFF_SMT])  # transposed: column j of the matrix is contiguous
@@ -453,7 +457,7 @@ def _film_loads(y, oq, N, x_star, V_r, p, ws, F, oF):
     nodes = int(p[I_NODES])
     beta1 = math.pi / p[I_L]
     x0 = _pad_start(x_star, p)
-    w = 0  # film scratch: 4 N + 8 nodes
+    w = np.int64(0)  # film scratch: 4 N + 8 nodes (np.int64: no literal specialisation)
     ou = w + 2 * N
     oQ = ou + nodes
     _modal_sincos(x0, beta1, N, ws, w)
@@ -486,7 +490,7 @@ def film_loads(t, y, p):
     if p[I_FILM] == 0.0:
         return F, 0.0
     kin = _kin(t, p)
-    total = _film_loads(y, 0, N, kin[3], kin[4], p, np.empty(int(p[I_WORK])), F, 0)
+    total = _film_loads(y, np.int64(0), N, kin[3], kin[4], p, np.empty(int(p[I_WORK])), F, np.int64(0))
     return F, total
 
 
@@ -509,7 +513,7 @@ def film_force_many(t, y, p):
         for m in range(2 * N):
             yi[m] = y[i, m]
         kin = _kin(t[i], p)
-        out[i] = _film_loads(yi, 0, N, kin[3], kin[4], p, ws, F, 0)
+        out[i] = _film_loads(yi, np.int64(0), N, kin[3], kin[4], p, ws, F, np.int64(0))
     return out
 
 
@@ -602,7 +606,7 @@ def thinnest_film(t, y, p):
     """:meth:`lubelink.model.Model.thinnest_film`: ``(xi_min, x_c, at_edge, side)``."""
     N = int(p[I_N])
     kin = _kin(t, p)
-    return _thinnest(y, 0, N, kin[3], p, np.empty(int(p[I_WORK])), 0.0)
+    return _thinnest(y, np.int64(0), N, kin[3], p, np.empty(int(p[I_WORK])), 0.0)
 
 
 @numba.njit(cache=True)
@@ -652,7 +656,7 @@ def contact_force(t, y, p):
     if p[I_PHASE_SIDE] == 0.0:
         return F, 0.0
     kin = _kin(t, p)
-    force = _contact_force(y, 0, N, kin[3], kin[4], p, np.empty(int(p[I_WORK])), F, 0)
+    force = _contact_force(y, np.int64(0), N, kin[3], kin[4], p, np.empty(int(p[I_WORK])), F, np.int64(0))
     return F, force
 
 
@@ -674,14 +678,14 @@ def rhs(t, y, out, p):
         out[N + n] = 0.0
     ws = np.empty(int(p[I_WORK]))
     if p[I_FILM] != 0.0:
-        _film_loads(y, 0, N, x_star, V_r, p, ws, out, N)
+        _film_loads(y, np.int64(0), N, x_star, V_r, p, ws, out, N)
     beta1 = math.pi / L
     if p[I_MC] > 0.0:
         R = -p[I_MC] * Y_ddot / c_th
         for n in range(N):
             out[N + n] += R * math.sin((n + 1) * beta1 * x_star)
     if p[I_PHASE_SIDE] != 0.0:
-        _contact_force(y, 0, N, x_star, V_r, p, ws, out, N)
+        _contact_force(y, np.int64(0), N, x_star, V_r, p, ws, out, N)
     gX, gY = p[I_GX], p[I_GY]
     A_eff = A_O2
     if gX != 0.0 or gY != 0.0:
@@ -698,3 +702,117 @@ def rhs(t, y, out, p):
         out[N + n] = -(wn**2 - omega**2) * y[n] - 2.0 * zeta * wn * y[N + n] + forcing
     for n in range(N):
         out[n] = y[N + n]
+
+
+# --- results: the pad pressure of many samples -------------------------------------------------------
+@numba.njit(cache=True)
+def _pad_pressure_kernel(t, y, p, side, h, w, smat, SP, CP, out):
+    """``out[i]``: gauge pressure at the pad breaks for sample ``i`` (see :func:`pad_pressure_many`)."""
+    T = t.shape[0]
+    N = int(p[I_N])
+    M = h.shape[0]
+    n = w.shape[0]
+    P = M * n
+    beta1 = math.pi / p[I_L]
+    mu = p[I_MU]
+    half = 0.5 * p[I_H]
+    squeeze = p[I_SQUEEZE] != 0.0
+    clip = p[I_CAV] == 1.0
+    sc = np.empty(2 * N)
+    u = np.empty(P)
+    ud = np.empty(P)
+    for i in range(T):
+        kin = _kin(t[i], p)
+        x0 = _pad_start(kin[3], p)
+        V_r = kin[4]
+        _modal_sincos(x0, beta1, N, sc, np.int64(0))
+        for k in range(P):
+            u[k] = 0.0
+            ud[k] = 0.0
+        for m in range(N):  # u2 and u2_dot at the points: sin(b (x0 + X)) = s0 cos(b X) + c0 sin(b X)
+            a = sc[m] * y[i, m]
+            b = sc[N + m] * y[i, m]
+            ad = sc[m] * y[i, N + m]
+            bd = sc[N + m] * y[i, N + m]
+            for k in range(P):
+                u[k] += CP[m, k] * a + SP[m, k] * b
+                ud[k] += CP[m, k] * ad + SP[m, k] * bd
+        I1 = 0.0
+        I2 = 0.0
+        I3 = 0.0
+        Q0 = 0.0  # int_0 xi_t up to the start of the piece
+        out[i, 0] = 0.0
+        for piece in range(M):
+            a1 = 0.0
+            a2 = 0.0
+            a3 = 0.0
+            aq = 0.0
+            for j in range(n):
+                k = piece * n + j
+                xi = half - side * u[k]
+                wt = h[piece] * w[j]
+                inv3 = xi**-3
+                a1 += wt * xi**-2
+                a2 += wt * inv3
+                if squeeze:
+                    Qj = 0.0  # int of xi_t = -side u2_dot from the piece start to node j
+                    for l in range(n):
+                        Qj += smat[j, l] * (-side * ud[piece * n + l])
+                    a3 += wt * (Q0 + h[piece] * Qj) * inv3
+                    aq += wt * (-side * ud[k])
+            I1 += a1
+            I2 += a2
+            I3 += a3
+            Q0 += aq
+            out[i, piece + 1] = I1  # cumulative integrals for now; the pressure below
+            out[i, M + 1 + piece + 1] = I2
+            out[i, 2 * (M + 1) + piece + 1] = I3
+        C = -(6.0 * mu * V_r * I1 + 12.0 * mu * I3) / I2
+        for b in range(M + 1):
+            c1 = out[i, b] if b > 0 else 0.0
+            c2 = out[i, M + 1 + b] if b > 0 else 0.0
+            c3 = out[i, 2 * (M + 1) + b] if b > 0 else 0.0
+            pg = 6.0 * mu * V_r * c1 + C * c2 + 12.0 * mu * c3
+            out[i, b] = max(pg, p[I_PCAV]) if clip else pg
+
+
+def pad_pressure_many(model, t, y, X, side=1, nodes=8):
+    """Gauge pressure [Pa] on the pad at ``X`` for many samples: the batched form of the results' pressure.
+
+    Computes what :func:`lubelink.film.pad_pressure` (``nodes`` Gauss-Legendre
+    nodes between consecutive points of ``X``) gives for the film of side
+    ``side`` at every sample, clipped at the cavitation pressure for
+    ``"half-sommerfeld"`` -- the ``pressure`` of the results
+    (:func:`lubelink.simulate.to_dataset`).
+
+    Parameters
+    ----------
+    model : lubelink.model.Model
+        A model the kernels support (:func:`supported`).
+    t : ndarray, shape ``(T,)``
+        Sample times [s].
+    y : ndarray, shape ``(T, 2N)``
+        States at ``t``.
+    X : ndarray, shape ``(M + 1,)``
+        Increasing pad positions from 0 to ``l`` [m].
+    side : {1, -1}
+        Film at ``H/2 - u2`` (1) or ``H/2 + u2`` (-1).
+
+    Returns
+    -------
+    ndarray, shape ``(T, M + 1)``
+    """
+    from .film import _integration_matrix, gauss_legendre
+
+    X = np.asarray(X, dtype=float)
+    s, w = gauss_legendre(nodes)
+    h = np.diff(X)
+    pts = (X[:-1, None] + h[:, None] * s).ravel()
+    beta = np.arange(1, model.modes + 1) * np.pi / model.config.mechanism.rod_length
+    bp = np.outer(beta, pts)
+    t = np.ascontiguousarray(t, dtype=float)
+    y = np.ascontiguousarray(y, dtype=float)
+    out = np.empty((t.size, 3 * X.size))  # room for the cumulative integrals
+    _pad_pressure_kernel(t, y, pack(model), float(side), h, np.ascontiguousarray(w),
+                         np.ascontiguousarray(_integration_matrix(nodes)), np.sin(bp), np.cos(bp), out)
+    return out[:, :X.size].copy()

@@ -183,10 +183,12 @@ def _method_tables():
 # The tables are module constants: Numba freezes global arrays into the compiled code.
 (_T_NSEQ, _T_SEQ_OFF, _T_WORK, _T_WEIGHTS, _T_DIFF, _T_HERMITE, _T_TAYLOR, _T_ESHAPE,
  _T_DOP_A, _T_DOP_C, _T_DOP_E3, _T_DOP_E5, _T_DOP_D) = _method_tables()
+_T_DOP_E = np.vstack([_T_DOP_E5, _T_DOP_E3])  # the 5th- and 3rd-order error estimators
 
 
 # ------------------------------------------------------------------------------------------------
-# shared helpers
+# shared helpers. Integer constants passed to helpers are wrapped in np.int64: Numba would compile
+# a separate specialisation of the helper for every literal value otherwise.
 @numba.njit(cache=True)
 def _copy_row(W, row, src):
     """``W[row] = src`` (a loop: slice assignment compiles a costly shape check)."""
@@ -418,20 +420,23 @@ def _bs_column(col, rhs, p, t, h, W, fst, ist):
     for m in range(n):
         t1[m] = ((fn[m] * hj + prev[m]) + cur[m]) * 0.5
     ynew = W[R_YNEW]
-    for m in range(n):
-        acc = 0.0
-        for i in range(col):
-            acc += weights[0, col, i] * W[R_T1 + i, m]
-        ynew[m] = acc
+    for m in range(n):  # element-wise over the state (vectorised)
+        ynew[m] = 0.0
+        W[R_TMP, m] = 0.0
+    for i in range(col):
+        w0 = weights[0, col, i]
+        for m in range(n):
+            ynew[m] += w0 * W[R_T1 + i, m]
     if col == 1:
         return -1.0, False
+    for i in range(1, col):  # T_j,j-1 for the error estimate
+        w1 = weights[1, col, i - 1]
+        for m in range(n):
+            W[R_TMP, m] += w1 * W[R_T1 + i, m]
     acc2 = 0.0
     for m in range(n):
-        lower = 0.0
-        for i in range(1, col):
-            lower += weights[1, col, i - 1] * W[R_T1 + i, m]
         sc = fst[F_ATOL] + fst[F_RTOL] * max(abs(y[m]), abs(ynew[m]))
-        d = (ynew[m] - lower) / sc
+        d = (ynew[m] - W[R_TMP, m]) / sc
         acc2 += d * d
     err = math.sqrt(acc2 / n)
     if not err * EPS < 1.0 or (col > 2 and err >= fst[F_ERROLD]):
@@ -453,24 +458,27 @@ def _bs_dense(t, t_new, kc, W, fst, ist):
     n = W.shape[1]
     h = t_new - t
     mu = max(2 * kc - _MU_DIFF + 1, 0)
-    for m in range(n):  # d[0]: the extrapolated midpoint value
-        acc = 0.0
-        for j in range(kc):
-            acc += weights[0, kc, j] * W[R_YMID + j, m]
-        W[R_COEF, m] = acc * taylor[0]
-    for kappa in range(1, mu + 1):  # d[kappa] ~ H^kappa y^(kappa)(t_mid)
+    # element-wise over the state (vectorised): d[0], the extrapolated midpoint value, and
+    # d[kappa] ~ H^kappa y^(kappa)(t_mid), extrapolated central differences of the f values
+    for kappa in range(mu + 1):
+        for m in range(n):
+            W[R_COEF + kappa, m] = 0.0
+    for j in range(kc):
+        w = weights[0, kc, j] * taylor[0]
+        for m in range(n):
+            W[R_COEF, m] += w * W[R_YMID + j, m]
+    for kappa in range(1, mu + 1):
         j0 = (kappa + 1) // 2 - 1
         r = kappa - 1
-        for m in range(n):
-            acc = 0.0
-            for j in range(j0, kc):
-                mid = nseq[j] // 2
-                off = R_STORE + seq_off[j]
-                dv = 0.0
-                for i in range(mid - r, mid + r + 1, 2):
-                    dv += diff[j, r, i] * W[off + i, m]
-                acc += weights[j0, kc, j - j0] * (h * dv)
-            W[R_COEF + kappa, m] = acc * taylor[kappa]
+        row = R_COEF + kappa
+        for j in range(j0, kc):
+            mid = nseq[j] // 2
+            off = R_STORE + seq_off[j]
+            wj = weights[j0, kc, j - j0] * h * taylor[kappa]
+            for i in range(mid - r, mid + r + 1, 2):
+                c = diff[j, r, i] * wj
+                for m in range(n):
+                    W[row, m] += c * W[off + i, m]
     y, ynew, fold, fnew = W[R_Y], W[R_YNEW], W[R_F], W[R_FNEW]
     hinv = hermite[mu]
     errint = 0.0
@@ -650,23 +658,36 @@ def _bs_step(rhs, p, W, fst, ist):
 # ------------------------------------------------------------------------------------------------
 # DOP853 (the algorithm of scipy.integrate.DOP853)
 @numba.njit(cache=True)
-def _dop_stage(s, rhs, p, t, h, y, W, ist, A, C):
+def _combine(W, dst, coef, row, count):
+    """``W[dst] = sum_{i < count} coef[row, i] K_i`` (the stages ``K_i = W[R_STORE + i]``).
+
+    Element-wise over the state, zero coefficients skipped (DOP853's tables are sparse).
+    """
+    n = W.shape[1]
+    for m in range(n):
+        W[dst, m] = 0.0
+    for i in range(count):
+        a = coef[row, i]
+        if a != 0.0:
+            r = R_STORE + i
+            for m in range(n):
+                W[dst, m] += W[r, m] * a
+
+
+@numba.njit(cache=True)
+def _dop_stage(s, rhs, p, t, h, y, W, ist):
     """Stage ``s``: ``K_s = f(t + c_s h, y + h sum_i a_si K_i)``."""
     n = W.shape[1]
-    tmp = W[R_TMP]
+    _combine(W, np.int64(R_TMP), _T_DOP_A, s, s)
     for m in range(n):
-        acc = 0.0
-        for i in range(s):
-            acc += W[R_STORE + i, m] * A[s, i]
-        tmp[m] = y[m] + acc * h
-    rhs(t + C[s] * h, tmp, W[R_STORE + s], p)
+        W[R_TMP, m] = y[m] + W[R_TMP, m] * h
+    rhs(t + _T_DOP_C[s] * h, W[R_TMP], W[R_STORE + s], p)
     ist[S_NFEV] += 1
 
 
 @numba.njit(cache=True)
 def _dop_step(rhs, p, W, fst, ist):
     """One accepted DOP853 step (``scipy.integrate._ivp.rk.RungeKutta._step_impl``)."""
-    A, C, E3, E5 = _T_DOP_A, _T_DOP_C, _T_DOP_E3, _T_DOP_E5
     n = W.shape[1]
     t = fst[F_T]
     y, f = W[R_Y], W[R_F]
@@ -687,28 +708,23 @@ def _dop_step(rhs, p, W, fst, ist):
             t_new = t_end
         h = t_new - t
         h_abs = abs(h)
-        _copy_row(W, R_STORE, f)
+        _copy_row(W, np.int64(R_STORE), f)
         for s in range(1, 12):
-            _dop_stage(s, rhs, p, t, h, y, W, ist, A, C)
+            _dop_stage(s, rhs, p, t, h, y, W, ist)
         ynew = W[R_YNEW]
+        _combine(W, np.int64(R_YNEW), _T_DOP_A, np.int64(12), np.int64(12))  # the weights b are row 12 of A
         for m in range(n):
-            acc = 0.0
-            for i in range(12):
-                acc += W[R_STORE + i, m] * A[12, i]
-            ynew[m] = y[m] + h * acc
+            ynew[m] = y[m] + h * ynew[m]
         rhs(t + h, ynew, W[R_STORE + 12], p)
         ist[S_NFEV] += 1
+        _combine(W, np.int64(R_YA), _T_DOP_E, np.int64(0), np.int64(13))  # the 5th- and 3rd-order error estimates
+        _combine(W, np.int64(R_YB), _T_DOP_E, np.int64(1), np.int64(13))
         e5 = 0.0
         e3 = 0.0
         for m in range(n):
             sc = fst[F_ATOL] + max(abs(y[m]), abs(ynew[m])) * fst[F_RTOL]
-            a5 = 0.0
-            a3 = 0.0
-            for i in range(13):
-                a5 += W[R_STORE + i, m] * E5[i]
-                a3 += W[R_STORE + i, m] * E3[i]
-            e5 += (a5 / sc) ** 2
-            e3 += (a3 / sc) ** 2
+            e5 += (W[R_YA, m] / sc) ** 2
+            e3 += (W[R_YB, m] / sc) ** 2
         if e5 == 0.0 and e3 == 0.0:
             error_norm = 0.0
         else:
@@ -741,24 +757,22 @@ def _dop_step(rhs, p, W, fst, ist):
 @numba.njit(cache=True)
 def _dop_dense(rhs, p, W, fst, ist):
     """Hairer's 7th-order interpolant of the last step (three more stages) into ``W[R_COEF:]``."""
-    A, C, D = _T_DOP_A, _T_DOP_C, _T_DOP_D
     n = W.shape[1]
     h = fst[F_HSTEP]
     t_old = fst[F_TOLD]
     y_old = W[R_YOLD]
     for s in range(13, 16):
-        _dop_stage(s, rhs, p, t_old, h, y_old, W, ist, A, C)
+        _dop_stage(s, rhs, p, t_old, h, y_old, W, ist)
     y, f, f_old = W[R_Y], W[R_F], W[R_STORE]
+    for r in range(4):
+        _combine(W, R_COEF + 3 + r, _T_DOP_D, r, np.int64(16))
     for m in range(n):
         dy = y[m] - y_old[m]
         W[R_COEF, m] = dy
         W[R_COEF + 1, m] = h * f_old[m] - dy
         W[R_COEF + 2, m] = 2.0 * dy - h * (f[m] + f_old[m])
         for r in range(4):
-            acc = 0.0
-            for i in range(16):
-                acc += D[r, i] * W[R_STORE + i, m]
-            W[R_COEF + 3 + r, m] = h * acc
+            W[R_COEF + 3 + r, m] *= h
     ist[S_DENSE] = 1
 
 
@@ -780,7 +794,7 @@ def _advance(rhs, event, p, t_eval, out, W, fst, ist):
             fst[F_GOLD] = event(fst[F_T], W[R_Y], p)
         if fst[F_T] >= fst[F_TEND]:
             fst[F_TFINAL] = fst[F_T]
-            _copy_row(W, R_YFINAL, W[R_Y])
+            _copy_row(W, np.int64(R_YFINAL), W[R_Y])
             return _FINISHED
     steps = 0
     n_eval = t_eval.shape[0]
@@ -797,7 +811,7 @@ def _advance(rhs, event, p, t_eval, out, W, fst, ist):
         if not ok:
             ist[S_FAIL] = _FAIL_SMALL_STEP
             fst[F_TFINAL] = t_old
-            _copy_row(W, R_YFINAL, W[R_Y])
+            _copy_row(W, np.int64(R_YFINAL), W[R_Y])
             return _FAILED
         t_new = fst[F_T]
         y_new = W[R_Y]
@@ -805,7 +819,7 @@ def _advance(rhs, event, p, t_eval, out, W, fst, ist):
             if not np.isfinite(y_new[m]):
                 ist[S_FAIL] = _FAIL_NONFINITE
                 fst[F_TFINAL] = t_old
-                _copy_row(W, R_YFINAL, W[R_YOLD])
+                _copy_row(W, np.int64(R_YFINAL), W[R_YOLD])
                 return _FAILED
         t_stop = t_new
         hit = False
@@ -841,11 +855,11 @@ def _advance(rhs, event, p, t_eval, out, W, fst, ist):
             if t_stop != t_new:
                 _dense_eval(W, fst, ist, t_stop, W[R_YFINAL])
             else:
-                _copy_row(W, R_YFINAL, y_new)
+                _copy_row(W, np.int64(R_YFINAL), y_new)
             return _EVENT
         if t_new >= fst[F_TEND]:
             fst[F_TFINAL] = t_new
-            _copy_row(W, R_YFINAL, y_new)
+            _copy_row(W, np.int64(R_YFINAL), y_new)
             return _FINISHED
 
 
@@ -896,7 +910,9 @@ class _FirstClass(types.CompileResultWAP):
     """
 
     def __init__(self, dispatcher, sig):
-        dispatcher.compile(sig)
+        # by the argument types, as a call from Python compiles it: Numba's cache index keys a
+        # full signature differently, and one process would not find what the other cached
+        dispatcher.compile(sig.args)
         super().__init__(dispatcher.overloads[sig.args])
         self.dispatcher = dispatcher
         self.numba_type = types.FunctionType(self.cres.signature)
