@@ -12,6 +12,8 @@ import importlib
 import sys
 from pathlib import Path
 
+from .errors import UsageError
+
 __all__ = ["main", "resolve_args", "UsageError"]
 
 EPILOG = """examples:
@@ -26,10 +28,6 @@ EPILOG = """examples:
 #: its parsers with ``set_defaults(handler=function(args) -> exit status)``; they import heavy
 #: libraries (Matplotlib, Dask) only inside the handlers.
 EXTENSIONS = ("lubelink.paper", "lubelink.sweep")
-
-
-class UsageError(Exception):
-    """Bad command-line input, reported as one line per problem with status 2."""
 
 
 def _add_config_args(p):

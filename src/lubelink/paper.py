@@ -1054,7 +1054,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
 
 # ----------------------------------------------------------------- command line
 def _cmd_figures(args):
-    from .cli import UsageError
+    from .errors import UsageError
 
     only = None
     if args.only:
@@ -1084,7 +1084,8 @@ def _cmd_figures(args):
 
 
 def _cmd_animate(args):
-    from .cli import UsageError, resolve_args
+    from .cli import resolve_args
+    from .errors import UsageError
     from .config import ConfigError
 
     _, config = resolve_args(args)

@@ -7,12 +7,11 @@ TOML text, which is enough to re-run it (:func:`config_of`).
 
 from __future__ import annotations
 
-import os
-import tempfile
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
+
+from ._files import atomic_path
 
 __all__ = ["FORMAT_VERSION", "save", "load", "config_of", "atomic_path", "ResultsFileError"]
 
@@ -27,24 +26,6 @@ class ResultsFileError(ValueError):
 def variable(dims, data, units, long_name, **attrs):
     """``(dims, data, attrs)`` tuple for :class:`xarray.Dataset` construction."""
     return dims, np.asarray(data), {"units": units, "long_name": long_name, **attrs}
-
-
-@contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside ``path``; rename it over ``path`` if the block succeeds.
-
-    A failure (or an interruption) inside the block removes the temporary
-    file, so ``path`` is either the old file or the complete new one.
-    """
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def save(dataset, path, overwrite=False):

@@ -1740,7 +1740,7 @@ def register_cli(subparsers, add_config_args):
 
 
 def _usage(message):
-    from .cli import UsageError
+    from .errors import UsageError
 
     return UsageError(message)
 
