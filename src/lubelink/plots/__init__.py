@@ -507,7 +507,7 @@ def figure_first_impact_map(impacts, target=None, title=None):
 # ----------------------------------------------------------------- mechanism
 def _mechanism_geometry(ds, i, scale, cfg):
     """Points of the mechanism at time sample ``i`` in the fixed frame [m]."""
-    from .kinematics import slider_crank
+    from ..kinematics import slider_crank
 
     m, fm = cfg.mechanism, cfg.film
     t = float(ds.time.values[i])
@@ -556,7 +556,7 @@ def draw_mechanism(ds, i=0, ax=None, scale=50.0, artists=None, config=None):
     from matplotlib.patches import Polygon
 
     if config is None:
-        from .results import config_of
+        from ..results import config_of
 
         config = config_of(ds)
     g = _mechanism_geometry(ds, i, scale, config)
@@ -645,7 +645,7 @@ def animate_mechanism(ds, scale=50.0, fps=20, frames=None, size=(7.0, 3.2), dpi=
         ax = fig.add_subplot(1, 1, 1)
         fig.subplots_adjust(left=0.1, right=0.98, bottom=0.16, top=0.97)
         ax.grid(False)
-        from .results import config_of
+        from ..results import config_of
 
         config = config_of(ds)
         artists = draw_mechanism(ds, frames[0], ax, scale, config=config)

@@ -26,8 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import beam
-from .model import Model
+from .. import beam
+from ..model import Model
 
 __all__ = [
     "PAPER_IMPACT_TIME",
@@ -128,8 +128,8 @@ def first_impact_time(config, t_stop=None, motion=None):
     RuntimeError
         If the solver fails.
     """
-    from .model import build_model
-    from .simulate import segment_integrator
+    from ..model import build_model
+    from ..simulate import segment_integrator
 
     model = build_model(config, motion)
     t_stop = config.solver.t_end if t_stop is None else float(t_stop)
@@ -280,14 +280,14 @@ def calibrate_clearance(target=PAPER_IMPACT_TIME, source="paper-impact", set=Non
     """
     from scipy.optimize import brentq
 
-    from .config import resolve, to_toml
+    from ..config import resolve, to_toml
 
     overrides = {k: v for k, v in (set or {}).items() if k != "film.clearance"}
     base = resolve(source, overrides)
     grid = np.sort(np.asarray(base.film.clearance * (1 + np.linspace(-0.01, 0.01, 9))
                               if clearances is None else clearances, dtype=float))
     t_stop = target + horizon
-    from . import __version__
+    from .. import __version__
 
     key = json.dumps([__version__, to_toml(base.replace(film=_with(base.film, clearance=0.0))), target,
                       [float(h) for h in grid], xtol, tolerance, horizon])
@@ -429,7 +429,7 @@ def first_impact_map(viscosities, clearances, source="paper-impact", set=None, t
     """
     import xarray as xr
 
-    from .config import resolve
+    from ..config import resolve
 
     t1 = np.full((len(viscosities), len(clearances)), np.inf)
     for i, mu in enumerate(viscosities):
@@ -505,8 +505,8 @@ def _variant_model(config, variant):
     """The model of ``config`` with the equations of ``variant`` (see :data:`VARIANTS`)."""
     from dataclasses import fields
 
-    from .kinematics import PrescribedMotion, SliderCrank, slider_crank
-    from .model import build_model
+    from ..kinematics import PrescribedMotion, SliderCrank, slider_crank
+    from ..model import build_model
 
     if variant not in VARIANTS:
         raise ValueError(f"variant = {variant!r}: must be one of {', '.join(VARIANTS)}")
@@ -585,8 +585,8 @@ def simulate_variant(source="paper", set=None, variant="corrected"):
         For an unknown variant, or a variant other than ``"corrected"`` with
         a contact law (the variants are for impact-free runs).
     """
-    from .config import resolve
-    from .simulate import Run, run, to_dataset
+    from ..config import resolve
+    from ..simulate import Run, run, to_dataset
 
     config = resolve(source, set)
     if variant == "corrected":
@@ -607,7 +607,7 @@ def _run_model(config, model, run_class):
     """
     import time
 
-    from .simulate import reference_segment_integrator
+    from ..simulate import reference_segment_integrator
 
     start = time.perf_counter()
     s = config.solver
@@ -646,13 +646,13 @@ class Study:
         self._results = {}
 
     def config(self, source="paper", set=None):
-        from .config import resolve
+        from ..config import resolve
 
         return resolve(source, {**self.overrides, **(set or {})})
 
     def dataset(self, source="paper", set=None, variant="corrected", label=None):
         """Results of ``source`` with ``set`` (after the study's overrides), computed once."""
-        from .config import to_toml
+        from ..config import to_toml
 
         config = self.config(source, set)
         key = (to_toml(config), variant)
@@ -771,14 +771,14 @@ def _save(fig, folder, stem, dpi, formats=("png", "pdf")):
 
 
 def _fig6(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     ds = study.dataset("paper", label="paper")
     return plots.figure_deflection(ds), {"paper": ds}
 
 
 def _fig7(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     data = {
         "dry joint (paper-dry)": study.dataset("paper-dry", label="paper-dry"),
@@ -792,14 +792,14 @@ def _fig7(study, res, ctx):
 
 
 def _fig8(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     ds = study.dataset("paper", label="paper")
     return plots.figure_pressure(ds), {"paper": ds}
 
 
 def _fig9(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     c = res["calibration"]
     impact = ctx.get("impact", {})
@@ -840,7 +840,7 @@ def _fig9(study, res, ctx):
 
 
 def _impact_map(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     m = res["impact_map"]
     bar = ctx.get("bar")
@@ -855,7 +855,7 @@ def _impact_map(study, res, ctx):
 
 
 def _modes(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     data = {n: study.dataset("paper", {"beam.modes": n, **res["modes_overrides"]}, label=f"paper, {n} modes")
             for n in res["modes"]}
@@ -863,7 +863,7 @@ def _modes(study, res, ctx):
 
 
 def _errata(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     labels = {"corrected": "corrected", "printed-omega2": "+omega^2 q (Eq. 18)",
               "double-count": "omega v_O1 twice (Eq. 18)", "printed": "Eq. 18 as printed",
@@ -878,7 +878,7 @@ def _errata(study, res, ctx):
 
 
 def _lubrication(study, res, ctx):
-    from . import plots
+    from .. import plots
 
     lub = res["lubrication"]
     effect = lubrication_effect(lub["viscosities"], lub["clearances"], study=study)
@@ -1021,7 +1021,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
 
     if suffix == ".mp4" and not manim.FFMpegWriter.isAvailable():
         raise ValueError(f"-o {output}: writing MP4 needs ffmpeg, which was not found; write a .gif instead")
-    from .simulate import simulate
+    from ..simulate import simulate
 
     frame_step = speed / fps
     frames = int(round(duration / frame_step))
@@ -1029,7 +1029,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
         raise ValueError(f"--duration {duration}: shows fewer than 2 frames at --fps {fps} and --speed {speed}")
     ds = simulate(source, {**(set or {}), "solver.t_end": frames * frame_step, "solver.output_step": frame_step},
                   progress=progress)
-    from . import plots
+    from .. import plots
 
     fig, anim = plots.animate_mechanism(ds, scale=scale, fps=fps, dpi=dpi)
     writer = manim.PillowWriter(fps=fps) if suffix == ".gif" else manim.FFMpegWriter(fps=fps)
@@ -1054,7 +1054,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
 
 # ----------------------------------------------------------------- command line
 def _cmd_figures(args):
-    from .errors import UsageError
+    from ..errors import UsageError
 
     only = None
     if args.only:
@@ -1084,9 +1084,9 @@ def _cmd_figures(args):
 
 
 def _cmd_animate(args):
-    from .cli import resolve_args
-    from .errors import UsageError
-    from .config import ConfigError
+    from ..cli import resolve_args
+    from ..errors import UsageError
+    from ..config import ConfigError
 
     _, config = resolve_args(args)
     try:
