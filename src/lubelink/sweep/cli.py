@@ -1,0 +1,210 @@
+"""The ``sweep`` and ``plot-sweep`` subcommands: :func:`register_cli` and their handlers.
+
+``lubelink.cli`` imports the package ``lubelink.sweep`` as an extension and calls
+``register_cli(subparsers, add_config_args)``. Bad input is a :class:`lubelink.errors.UsageError`
+(one line, exit status 2); ``--check`` prints the plan table, a finished run the summary table.
+Dask, Zarr and Matplotlib are imported inside the handlers.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import sys
+from pathlib import Path
+
+from .._files import atomic_path
+from ..config import ConfigError
+from ..errors import UsageError
+from .execute import run_sweep
+from .parse import read_sweep
+from .plot import plot_sweep
+from .schema import SweepError, _fmt, _parameters
+from .spec import Sweep
+from .store import _is_netcdf, _side_store, load_sweep
+
+__all__ = ["register_cli"]
+
+
+# ====================================================================== command line
+def register_cli(subparsers, add_config_args):
+    """Add the ``sweep`` and ``plot-sweep`` subcommands."""
+    del add_config_args  # a sweep file names its own base configuration
+    p = subparsers.add_parser(
+        "sweep", help="run a parameter sweep on Dask (resumable)",
+        description="Run every point of a sweep file on Dask and store the results (Zarr, or NetCDF "
+                    "for FILE.nc) as they finish. Running the same command again resumes: stored points "
+                    "are skipped. See docs/sweeps.md.")
+    p.add_argument("sweep_file", metavar="SWEEP.toml", help="the sweep definition")
+    p.add_argument("-o", "--output", metavar="RESULTS",
+                   help="results store: DIR.zarr or FILE.nc (default: <sweep file name>.zarr here)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786 "
+                        "(default: a local cluster)")
+    p.add_argument("--workers", metavar="N", help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--retry-failed", action="store_true",
+                   help="compute again the stored points whose status is not 'complete'")
+    p.add_argument("--overwrite", action="store_true", help="discard a store that holds a different sweep")
+    p.add_argument("--check", action="store_true",
+                   help="validate the sweep file and every point, print the plan and what is stored; compute nothing")
+    p.add_argument("--trace", metavar="FILE",
+                   help="append a start and an end line per point computation to FILE (audit)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
+    p.set_defaults(handler=_cmd_sweep)
+
+    p = subparsers.add_parser(
+        "plot-sweep", help="draw a response map of a sweep's results",
+        description="Heat map of a stored quantity over two swept parameters, curves for one, facets for "
+                    "three (fix more with --select).")
+    p.add_argument("results", metavar="RESULTS", help="a sweep store (DIR.zarr or FILE.nc)")
+    p.add_argument("--quantity", metavar="NAME", help="quantity to draw (default peak_u2_mid); 'status' maps outcomes")
+    p.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",
+                   help="fix a swept dimension at (the value nearest to) VALUE; repeatable")
+    p.add_argument("-o", "--output", metavar="FILE.png",
+                   help="image file (default: <results name>-<quantity>.png here)")
+    p.set_defaults(handler=_cmd_plot_sweep)
+
+
+def _require(*modules, extra):
+    """A one-line usage error when an optional dependency is missing."""
+    import importlib.util
+
+    missing = [m for m in modules if importlib.util.find_spec(m) is None]
+    if missing:
+        raise UsageError(f"{', '.join(missing)} not installed; install the extra: pip install 'lubelink[{extra}]'")
+
+
+def _plan(sp: Sweep, invalid, path):
+    params = _parameters()
+    rows = [("sweep", sp.origin), ("base", f"{sp.base}" + (f", with [set] {', '.join(sp.fixed)}" if sp.fixed else ""))]
+    for i, a in enumerate(sp.axes):
+        units = params[a.name][1]
+        span = f"{_fmt(a.values[0])} .. {_fmt(a.values[-1])}" if len(a.values) > 1 else _fmt(a.values[0])
+        rows.append(("dimensions" if i == 0 else "", f"{a.name}: {len(a.values)} ({a.scale}, {span}"
+                     + (f" {units}" if units and units != "1" else "") + ")"))
+    if sp.point_rows:
+        rows.append(("dimensions" if not sp.axes else "",
+                     f"point: {len(sp.point_rows)} explicit points of {', '.join(sp.point_names)}"))
+    rows.append(("points", f"{sp.size}" + (f", {len(invalid)} invalid" if invalid else ", all valid")))
+    rows.append(("stored per point", ", ".join(("status", "message", "wall_time") + sp.quantities)
+                 + (f"; time series {', '.join(sp.time_series)}" if sp.time_series else "")))
+    rows.append(("hash", sp.hash[:16]))
+    if path is not None and (path.exists() or _side_store(path).exists()):
+        try:
+            ds = load_sweep(path)
+            same = ds.attrs.get("sweep_hash") == sp.hash
+            rows.append(("results", f"{path}: {int(ds.done.sum())} of {sp.size} points stored" if same
+                         else f"{path}: holds a different sweep (would need --overwrite)"))
+        except SweepError as exc:
+            rows.append(("results", str(exc)))
+    elif path is not None:
+        rows.append(("results", f"{path} (new)"))
+    return _table(rows)
+
+
+def _table(rows):
+    width = max(len(k) for k, _ in rows)
+    return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
+
+
+def _summary(ds, sp: Sweep, path):
+    status = ds.status.values.reshape(-1)[ds.done.values.reshape(-1)]
+    counts = {}
+    for s in status:
+        counts[str(s)] = counts.get(str(s), 0) + 1
+    n_done = int(ds.done.sum())
+    complete = counts.pop("complete", 0)
+    run = json.loads(ds.attrs.get("runs", "[]") or "[]")
+    last = run[-1] if run else {}
+    rows = [
+        ("sweep", f"{sp.origin}: {sp.size} points (" + " x ".join(f"{d} {n}" for d, n in zip(sp.dims, sp.shape)) + ")"),
+        ("results", str(path)),
+        ("stored", f"{n_done} of {sp.size}: {complete} complete, {n_done - complete} failed"
+                   + (" (" + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())) + ")" if counts else "")),
+    ]
+    if last:
+        rate = last["computed"] / last["wall_time"] if last.get("wall_time") else 0.0
+        rows.append(("this run", f"{last['computed']} computed in {last['wall_time']:.1f} s"
+                     + (f" ({rate:.3g} points/s)" if last["computed"] else "")
+                     + (f" on {last['scheduler']}" if last.get("scheduler") else "")
+                     + f"; {last.get('resumed', 0)} were already stored"))
+    if n_done < sp.size:
+        rows.append(("remaining", f"{sp.size - n_done} points; run the same command again to compute them"))
+    if counts:
+        first = next(i for i, s in enumerate(ds.status.values.reshape(-1)) if str(s) not in ("complete", ""))
+        rows.append(("first failure", f"{sp.label(first)}: {ds.message.values.reshape(-1)[first]}"))
+    return _table(rows)
+
+
+def _cmd_sweep(args):
+    path_in = Path(args.sweep_file)
+    if not path_in.is_file():
+        raise UsageError(f"SWEEP.toml = {args.sweep_file!r}: no such file")
+    workers = None
+    if args.workers is not None:
+        try:
+            workers = int(args.workers)
+        except ValueError:
+            workers = 0
+        if workers < 1:
+            raise UsageError(f"--workers {args.workers}: must be a whole number >= 1")
+    if args.scheduler and workers:
+        raise UsageError("give either --scheduler ADDRESS (an existing cluster) or --workers N (a local one), not both")
+    sp = read_sweep(path_in)
+    out = Path(args.output) if args.output else Path(f"{path_in.stem}.zarr")
+    if not out.parent.is_dir():
+        raise UsageError(f"-o {out}: folder {out.parent} does not exist")
+    if args.check:
+        configs, invalid = sp.point_configs()
+        print(_plan(sp, invalid, out))
+        if invalid and sp.invalid_points == "error":
+            raise ConfigError(sp.invalid_report(invalid))
+        return 0
+    _require("distributed", "zarr", "xarray", extra="sweep")
+    if not args.quiet:
+        print(f"{sp.origin}: {sp.size} points -> {out}", file=sys.stderr)
+    try:
+        ds = run_sweep(sp, out, scheduler=args.scheduler, workers=workers, retry_failed=args.retry_failed,
+                       overwrite=args.overwrite, progress=not args.quiet, trace=args.trace)
+    except SweepError as exc:
+        raise UsageError(str(exc)) from None
+    except KeyboardInterrupt:
+        stored = "?"
+        with contextlib.suppress(Exception):
+            stored = int(load_sweep(out).done.sum())
+        print(f"lubelink: interrupted; {stored} of {sp.size} points are stored in {out}; run the same "
+              "command again to resume", file=sys.stderr)
+        return 130
+    if not args.quiet:
+        print(_summary(ds, sp, out))
+    return 0 if bool(ds.done.all()) else 1
+
+
+def _cmd_plot_sweep(args):
+    path = Path(args.results)
+    if not (path.exists() or (_is_netcdf(path) and _side_store(path).exists())):
+        raise UsageError(f"RESULTS = {args.results!r}: no such sweep store")
+    select = {}
+    for text in args.select:
+        if "=" not in text:
+            raise UsageError(f"--select {text!r}: must look like DIM=VALUE, e.g. film.viscosity=0.1")
+        dim, value = (part.strip() for part in text.split("=", 1))
+        select[dim] = value
+    _require("matplotlib", "zarr", "xarray", extra="plot,sweep")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    try:
+        ds = load_sweep(path)
+        quantity = args.quantity
+        fig = plot_sweep(ds, quantity, select=select)
+    except SweepError as exc:
+        raise UsageError(str(exc)) from None
+    quantity = quantity or ("peak_u2_mid" if "peak_u2_mid" in ds else "status")
+    out = Path(args.output) if args.output else Path(f"{path.name.split('.')[0]}-{quantity}.png")
+    if not out.parent.is_dir():
+        raise UsageError(f"-o {out}: folder {out.parent} does not exist")
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=120, bbox_inches="tight", format=out.suffix.lstrip(".").lower() or "png")
+    print(f"wrote {out}")
+    return 0

@@ -1,0 +1,340 @@
+"""Running a sweep on Dask (the client side): :func:`run_sweep`.
+
+Validate every point, open (or resume) the store, start or reach a Dask cluster
+(:func:`_dask_client`), then keep a moving window of tasks in flight (:func:`_execute`): one point
+per task, or as many as take about ``task_seconds`` once the points' duration is known. Each
+task's points are committed to the store as it completes, so an interruption loses at most the
+points being computed. Dask and tqdm are imported inside the functions.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import shutil
+import sys
+import time
+import uuid
+from pathlib import Path
+
+import numpy as np
+
+from ..config import ConfigError
+from .compute import _compute_points, _describe, _empty_record, _TaskOptions
+from .layout import _time_axis
+from .parse import read_sweep
+from .schema import SweepError
+from .store import _check_attrs, _export_netcdf, _is_netcdf, _side_store, _Store, load_sweep
+
+__all__ = ["run_sweep", "sweep", "LOCAL_CLUSTER_CONFIG"]
+
+log = logging.getLogger(__name__)
+
+#: Dask settings of the local cluster that :func:`run_sweep` starts: Dask's diagnostics sampling
+#: (event-loop tick every 20 ms, system monitor, worker profiler) costs about a tenth of a core per
+#: process on a small machine, taken from the simulations; a sweep does without it.
+LOCAL_CLUSTER_CONFIG = {
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.worker.profile.enabled": False,
+}
+
+
+# ====================================================================== running
+def _cpu_count() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def _dask_client(client, scheduler, workers):
+    """``(client, description)``: the user's client, one connected to ``scheduler``, or a LocalCluster."""
+    if client is not None:
+        yield client, f"Dask client {getattr(client, 'scheduler', None) and client.scheduler.address}"
+        return
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            c = Client(scheduler)  # waits distributed.comm.timeouts.connect (Dask config, 30 s)
+        except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, ValueError for a bad address
+            raise SweepError(f"scheduler {scheduler}: cannot connect ({exc})") from None
+        try:
+            yield c, f"Dask scheduler {scheduler}"
+        finally:
+            c.close()
+        return
+    import dask
+
+    n = workers or _cpu_count()
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               silence_logs=logging.ERROR, dashboard_address=":0")
+        c = Client(cluster)
+    try:
+        yield c, f"LocalCluster, {n} worker process(es)"
+    finally:
+        c.close()
+        cluster.close()
+
+
+def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, retry_failed=False,
+              overwrite=False, progress=True, trace=None, task_seconds=0.5):
+    """Run a parameter sweep on Dask and return every point's results.
+
+    Points already in ``store`` are skipped (the run resumes); each finished
+    point is stored at once, so interrupting loses at most the points being
+    computed at that moment.
+
+    Parameters
+    ----------
+    sweep : str, os.PathLike, dict or Sweep
+        Sweep file or its parsed content (:func:`read_sweep`).
+    store : str or os.PathLike, optional
+        Results: a Zarr directory (default ``<sweep file name>.zarr``), or a
+        ``.nc`` file (NetCDF, written when the run ends).
+    client : distributed.Client, optional
+        Your own Dask client (kept open). Otherwise ``scheduler`` is connected
+        to, or a ``LocalCluster`` of ``workers`` processes (default: one per
+        core, one thread each) is started for this call.
+    scheduler : str, optional
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
+    workers : int, optional
+        Worker processes of the local cluster.
+    retry_failed : bool
+        Compute again the stored points whose status is not ``complete``
+        (except ``invalid``).
+    overwrite : bool
+        Discard a store that holds another sweep instead of refusing.
+    progress : bool
+        Show a progress bar (done, failed, remaining, time left).
+    trace : str or os.PathLike, optional
+        Audit file: every point computation appends a ``start`` and an ``end``
+        line (it must be on a file system that the workers can write).
+    task_seconds : float
+        Once the points' duration is known, a Dask task computes as many
+        points as take about this long [s] (at least one), so that Dask's
+        per-task overhead stays small for short points; 0 sends one point
+        per task. A crash loses at most the tasks being computed.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over the swept dimensions: ``done``, ``status``, ``message``,
+        ``wall_time`` and the chosen quantities (units in their attrs); the
+        attrs hold the sweep, its hash, the base configuration and ``runs``
+        (JSON, one entry per run of this sweep).
+
+    Raises
+    ------
+    lubelink.ConfigError
+        An invalid sweep file, or invalid points (unless
+        ``invalid_points = "record"``), before anything is computed.
+    SweepError
+        A store of another sweep, a store in use, an unreachable scheduler.
+    """
+    sp = read_sweep(sweep)
+    if store is None:
+        if sp.origin in ("sweep", "store"):
+            raise SweepError("run_sweep: give store=... for a sweep that is not read from a file")
+        store = Path(f"{Path(sp.origin).stem}.zarr")
+    path = Path(store)
+    if scheduler and workers:
+        raise SweepError("give either a scheduler address or a number of local workers, not both")
+    if client is not None and (scheduler or workers):
+        raise SweepError("give either a Dask client or a scheduler address / number of workers")
+
+    bar = _bar(progress, sp.size, "validating") if sp.size >= 500 else None
+    try:
+        configs, invalid = sp.point_configs(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    if invalid and sp.invalid_points == "error":
+        raise ConfigError(sp.invalid_report(invalid))
+
+    export = None
+    if _is_netcdf(path):
+        export, side = path, _side_store(path)
+        if not path.parent.is_dir():
+            raise SweepError(f"{path}: folder {path.parent} does not exist")
+        if path.exists() and not side.exists():
+            previous = load_sweep(path)
+            if _check_attrs(path, previous.attrs, sp, overwrite):
+                previous = None
+            elif not _pending(sp, configs, previous.done.values.reshape(-1),
+                              previous.status.values.reshape(-1), retry_failed) \
+                    and not _unrecorded(invalid, previous.done.values.reshape(-1)):
+                return previous  # nothing to do
+        else:
+            previous = None
+        st = _Store.open(side, sp, overwrite=overwrite)
+        if previous is not None:
+            st.import_dataset(previous)
+    else:
+        st = _Store.open(path, sp, overwrite=overwrite)
+
+    session = {"started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "computed": 0, "failed": 0,
+               "interrupted": False, "host": os.uname().nodename if hasattr(os, "uname") else "",
+               "lubelink_version": _lubelink_version()}
+    t0 = time.perf_counter()
+    try:
+        done, status = st.state()
+        st.write([(flat, _empty_record(sp.quantities, sp.max_impacts, "invalid", "; ".join(invalid[flat]), 0.0), {})
+                  for flat in _unrecorded(invalid, done)])
+        done, status = st.state()
+        pending = _pending(sp, configs, done, status, retry_failed)
+        session["resumed"] = int(done.sum()) - int(done[pending].sum()) if pending else int(done.sum())
+        if pending:
+            with _dask_client(client, scheduler, workers) as (cl, where):
+                session["scheduler"] = where
+                _execute(cl, st, sp, configs, pending, done, status, progress, trace, session, task_seconds)
+    except KeyboardInterrupt:
+        session["interrupted"] = True
+        raise
+    finally:
+        session["wall_time"] = round(time.perf_counter() - t0, 3)
+        session["finished"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+        st.close(session)
+        if export is not None:
+            ds = _export_netcdf(st.path, export)
+            if bool(ds.done.all()):
+                shutil.rmtree(st.path, ignore_errors=True)
+    return load_sweep(path)
+
+
+#: Alias of :func:`run_sweep`.
+sweep = run_sweep
+
+
+def _lubelink_version():
+    from .. import __version__
+
+    return __version__
+
+
+def _unrecorded(invalid, done):
+    return [flat for flat in invalid if not done[flat]]
+
+
+def _pending(sp, configs, done, status, retry_failed):
+    """Flat indices to compute: valid points not stored (and failed ones with ``retry_failed``)."""
+    return [flat for flat in configs
+            if not done[flat] or (retry_failed and str(status[flat]) not in ("complete", "invalid"))]
+
+
+def _bar(progress, total, desc, initial=0):
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, initial=initial, desc=desc, unit="pt", file=sys.stderr, disable=not progress,
+                dynamic_ncols=True, smoothing=0.05, mininterval=0.2,
+                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n}/{total} [{elapsed}<{remaining}, "
+                           "{rate_fmt}{postfix}]")
+
+
+def _execute(client, st, sp, configs, pending, done, status, progress, trace, session, task_seconds):
+    """Submit the pending points in a moving window of tasks; store each task's points as it completes.
+
+    A task computes one point, or, once the points are known to be short, as many as take about
+    ``task_seconds`` on a worker, so that Dask's per-task cost (a few milliseconds of scheduler,
+    network and worker time) stays small beside the simulations.
+    """
+    from collections import deque
+
+    from distributed import as_completed
+
+    opts = _TaskOptions(quantities=sp.quantities, time_series=sp.time_series, max_impacts=sp.max_impacts,
+                        n_time=len(_time_axis(sp.base_config)) if sp.time_series else 0,
+                        output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
+    trace = str(Path(trace).resolve()) if trace else None
+    token = uuid.uuid4().hex[:8]
+    queue = deque(pending)
+    single = deque()  # points of a batch that killed its workers: run again one per task
+    active = {}
+    ac = as_completed(with_results=True, raise_errors=False)
+    retried = set(pending) & set(np.flatnonzero(done).tolist())
+    failed = sum(1 for f in range(sp.size) if done[f] and str(status[f]) != "complete") - len(retried)
+    n_done = int(done.sum()) - len(retried)
+    per_point = None  # seconds per point on a worker (moving average)
+
+    def threads():
+        try:
+            return max(1, sum(client.nthreads().values()))
+        except Exception:  # noqa: BLE001 - a scheduler without workers yet
+            return 1
+
+    def batch():
+        if single:
+            return [single.popleft()]
+        n = 1
+        if per_point is not None and task_seconds > 0:
+            n = int(task_seconds / max(per_point, 1e-6))
+            n = min(n, 256, len(queue) // (2 * nthreads))  # keep every worker busy to the end
+        return [queue.popleft() for _ in range(min(max(1, n), len(queue)))]
+
+    def submit(n_tasks):
+        """Submit up to ``n_tasks`` more tasks in one graph update."""
+        tasks = []
+        while len(tasks) < n_tasks and (queue or single):
+            tasks.append(batch())
+        if not tasks:
+            return
+        futures = client.map(_compute_points, tasks, [[configs[f] for f in t] for t in tasks], opts=opts,
+                             trace=trace, pure=False,
+                             key=[f"lubelink-sweep-{sp.hash[:8]}-{token}-{t[0]}-{len(t)}" for t in tasks])
+        for task, fut in zip(tasks, futures):
+            active[fut] = task
+        ac.update(futures)
+
+    nthreads = threads()
+    window = 3 * nthreads + 2
+    last_window = time.monotonic()
+    submit(window)
+    bar = _bar(progress, sp.size, "sweep", initial=n_done)
+    bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
+    lost = 0
+    try:
+        for fut, result in ac:
+            task = active.pop(fut)
+            if fut.status == "finished":
+                results, seconds = result
+                per_point = seconds / len(task) if per_point is None else \
+                    0.8 * per_point + 0.2 * seconds / len(task)
+            elif fut.status == "error" and len(task) > 1:  # find which point kills its workers
+                single.extend(task)
+                results = []
+            elif fut.status == "error":
+                exc = result[1] if isinstance(result, tuple) else result
+                state = "worker_died" if type(exc).__name__ == "KilledWorker" else "error"
+                results = [(task[0], _empty_record(sp.quantities, sp.max_impacts, state, _describe(exc)), {})]
+            else:  # cancelled or lost with the connection: not stored, computed on the next run
+                lost += len(task)
+                results = []
+            if results:
+                st.write(results)
+                new_failed = sum(1 for _, record, _ in results if record["status"] != "complete")
+                session["computed"] += len(results)
+                session["failed"] += new_failed
+                n_done += len(results)
+                failed += new_failed
+                bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
+                bar.update(len(results))
+            del fut, result, results
+            if time.monotonic() - last_window > 30.0:  # follow a cluster that scales
+                nthreads, last_window = threads(), time.monotonic()
+                window = 3 * nthreads + 2
+            if len(active) <= window // 2:  # refill in batches: fewer messages to the scheduler
+                submit(window - len(active))
+    except BaseException:
+        with contextlib.suppress(Exception):
+            client.cancel(list(active))
+        raise
+    finally:
+        bar.close()
+    session["lost"] = lost
+    if lost:
+        log.warning("%d point(s) were not computed (their tasks were cancelled or lost with the Dask "
+                    "connection); run the sweep again to compute them", lost)

@@ -1,0 +1,92 @@
+"""What a sweep stores and how its parameters are named: the shared vocabulary of the package.
+
+The store format version, the summary quantities and time series a point can keep (with their
+units), the parameters that can be swept (with units and long names read from
+:mod:`lubelink.params`), :class:`SweepError` and the formatting of a value in messages.
+No heavy imports.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import fields
+
+__all__ = ["SWEEP_FORMAT", "QUANTITIES", "DEFAULT_QUANTITIES", "ALWAYS", "SERIES", "SweepError"]
+
+#: Version of the store layout; :func:`load_sweep` and resuming refuse other major versions.
+SWEEP_FORMAT = "1.0"
+
+#: Summary quantities per point: name -> (units, long name, kind). ``kind`` is
+#: ``"f"`` (float, NaN when absent), ``"i"`` (integer, -1 when absent) or
+#: ``"impacts"`` (floats along an extra ``impact`` dimension).
+QUANTITIES = {
+    "peak_u2_mid": ("m", "peak absolute midpoint deflection, max |u2_mid|", "f"),
+    "impact_count": ("1", "number of impacts", "i"),
+    "first_impact_time": ("s", "time of the first impact (NaN: no impact)", "f"),
+    "peak_pressure": ("Pa", "peak absolute gauge film pressure, max |P - p_am| (NaN: no film)", "f"),
+    "min_film": ("m", "thinnest film on the pad (NaN: gap not monitored)", "f"),
+    "peak_film_force": ("N", "peak absolute film force on the link (NaN: no film)", "f"),
+    "end_time": ("s", "simulated time reached (solver.t_end unless the run ended early)", "f"),
+    "nfev": ("1", "right-hand-side evaluations", "i"),
+    "impact_times": ("s", "times of the first store.max_impacts impacts (NaN: fewer impacts)", "impacts"),
+}
+#: Stored when ``[store] quantities`` is not given.
+DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times")
+#: Always stored for every point, whatever ``quantities`` says.
+ALWAYS = {
+    "status": ("1", "outcome: complete, film_breakdown, chatter, solver_failure, timeout, "
+                    "error, worker_died or invalid"),
+    "message": ("1", "why the point ended (the error for a failed point)"),
+    "wall_time": ("s", "wall-clock time of the simulation on its worker"),
+}
+#: Time series that ``[store] time_series`` may keep: name -> extra dimension
+#: (after ``time``) and the parameters that fix that dimension's coordinate.
+SERIES = {
+    "u2_mid": (None, ()),
+    "x_star": (None, ()),
+    "V_r": (None, ()),
+    "film_min": (None, ()),
+    "film_force": (None, ()),
+    "q": ("mode", ("beam.modes",)),
+    "q_dot": ("mode", ("beam.modes",)),
+    "u2": ("x", ("mechanism.rod_length", "output.x_points")),
+    "pressure": ("X", ("film.pad_length", "output.pad_points")),
+}
+
+
+class SweepError(RuntimeError):
+    """A sweep that cannot start or go on: store of another sweep, store in use, no scheduler."""
+
+
+# ====================================================================== parameters
+def _parameters():
+    """``{"section.key": (field type, units, long name)}`` from the parameter dataclasses.
+
+    Units and descriptions come from the numpydoc ``Attributes`` of
+    :mod:`lubelink.params`, the single source of truth.
+    """
+    from ..params import SECTION_TYPES
+
+    out = {}
+    for section, cls in SECTION_TYPES.items():
+        docs = {}
+        for m in re.finditer(r"^ {4}([\w, ]+) : [\w ]+\n((?: {8}.*\n?)+)", cls.__doc__ or "", re.M):
+            text = " ".join(line.strip() for line in m.group(2).splitlines())
+            unit = re.search(r"\[([^\]]+)\]", text)
+            units = unit.group(1) if unit else ""
+            units = "1" if units == "-" else units
+            long_name = text.split(" [")[0].split(" (")[0].rstrip(".")
+            for name in m.group(1).split(","):
+                docs[name.strip()] = (units, long_name)
+        for f in fields(cls):
+            units, long_name = docs.get(f.name, ("", f.name))
+            ftype = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+            out[f"{section}.{f.name}"] = (ftype, units, long_name)
+    return out
+
+
+def _fmt(v):
+    """A value as it is written in messages and labels (floats to 6 significant digits)."""
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return repr(v) if isinstance(v, str) else str(v)
