@@ -1,22 +1,27 @@
-"""Pinned-pinned Euler-Bernoulli link in sine modes (MODEL.md sections 1-2, D3).
+"""Pinned-pinned Euler-Bernoulli link in sine modes (docs/model.md sections 1-2).
 
-``u2(x, t) = sum_n q_n(t) sin(beta_n x)``, ``beta_n = n pi / L``. Every
-function here is pure and vectorised over modes (last axis) and, where it
-makes sense, over leading time axes.
+``u2(x, t) = sum_n q_n(t) sin(beta_n x)``, ``beta_n = n pi / L``. Every function here is pure and
+vectorised over modes (last axis) and, where it makes sense, over leading time axes. The
+``@jitable`` ones are also what the compiled right-hand side executes, one mode at a time.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ._jit import jitable
+
 __all__ = [
     "wavenumbers",
     "natural_frequencies",
     "modal_mass",
+    "rigid_load",
     "rigid_forcing",
+    "point_load",
     "project_point_load",
     "project_distributed_load",
     "modal_acceleration",
+    "add_deflection",
     "deflection",
     "slope",
     "curvature",
@@ -56,12 +61,13 @@ def modal_mass(density, area, rod_length):
     return 0.5 * density * area * rod_length
 
 
-def rigid_forcing(A_O2, alpha, modes, rod_length):
-    """Modal load of the rigid-motion inertia per unit modal mass [m/s^2].
+@jitable
+def rigid_load(A_O2, alpha, n, rod_length):
+    """Modal load of the rigid-motion inertia per unit modal mass, mode ``n`` [m/s^2] (paper Eq. 18, corrected).
 
-    The sine transform of ``-rho A (A_O2 + alpha x)`` divided by the modal
-    mass (MODEL.md section 2, corrected paper Eq. 18):
-    ``-2/(L beta_n) {A_O2 [1 + (-1)^(n+1)] + alpha L (-1)^(n+1)}``.
+    The sine transform of ``-rho A (A_O2 + alpha x)`` divided by the modal mass ``rho A L / 2``
+    (docs/model.md section 2): ``-2/(L beta_n) {A_O2 [1 + (-1)^(n+1)] + alpha L (-1)^(n+1)}``.
+    Elementwise over arrays.
 
     Parameters
     ----------
@@ -69,25 +75,42 @@ def rigid_forcing(A_O2, alpha, modes, rod_length):
         True transverse acceleration of O [m/s^2].
     alpha : float or ndarray
         Angular acceleration of the link [rad/s^2].
-    modes : int
-        ``N`` [-].
+    n : int or ndarray of int
+        Mode number, from 1 [-].
     rod_length : float
         ``L`` [m].
-
-    Returns
-    -------
-    ndarray, shape ``(..., modes)``
     """
-    n = np.arange(1, modes + 1)
     beta = n * np.pi / rod_length
-    sign = np.where(n % 2 == 1, 1.0, -1.0)  # (-1)^(n+1)
-    A_O2 = np.asarray(A_O2, dtype=float)[..., None]
-    alpha = np.asarray(alpha, dtype=float)[..., None]
+    sign = 1.0 - 2.0 * ((n + 1) % 2)  # (-1)^(n+1)
     return -2.0 / (rod_length * beta) * (A_O2 * (1.0 + sign) + alpha * rod_length * sign)
 
 
+def rigid_forcing(A_O2, alpha, modes, rod_length):
+    """:func:`rigid_load` of modes ``1..modes`` [m/s^2], shape ``(..., modes)`` for ``A_O2``, ``alpha`` of shape ``(...)``."""
+    n = np.arange(1, modes + 1)
+    A_O2 = np.asarray(A_O2, dtype=float)[..., None]
+    alpha = np.asarray(alpha, dtype=float)[..., None]
+    return rigid_load(A_O2, alpha, n, rod_length)
+
+
+@jitable
+def point_load(force, position, beta):
+    """Sine transform of a point force, ``F sin(beta_n x_F)`` [N] (a load inside the span; elementwise).
+
+    Parameters
+    ----------
+    force : float
+        Force along +j [N].
+    position : float
+        Where it acts, from O [m].
+    beta : float or ndarray
+        Wavenumber(s) ``beta_n`` [1/m].
+    """
+    return force * np.sin(beta * position)
+
+
 def project_point_load(force, position, modes, rod_length):
-    """Sine transform of a point force, ``F sin(beta_n x_F)`` [N].
+    """:func:`point_load` on modes ``1..modes`` [N], shape ``(..., modes)``.
 
     Parameters
     ----------
@@ -99,7 +122,7 @@ def project_point_load(force, position, modes, rod_length):
     beta = wavenumbers(modes, rod_length)
     force = np.asarray(force, dtype=float)[..., None]
     position = np.asarray(position, dtype=float)[..., None]
-    return force * np.sin(beta * position)
+    return point_load(force, position, beta)
 
 
 def project_distributed_load(load, start, stop, modes, rod_length, nodes=64):
@@ -121,14 +144,29 @@ def project_distributed_load(load, start, stop, modes, rod_length, nodes=64):
     return half * np.sum((w * load(x))[:, None] * np.sin(np.outer(x, beta)), axis=0)
 
 
+@jitable
 def modal_acceleration(q, q_dot, omega_n, damping_ratio, omega, forcing):
-    """Modal accelerations of the corrected modal ODE [m/s^2] (MODEL.md section 2).
+    """Modal accelerations of the corrected modal ODE [m/s^2] (paper Eq. 18 corrected, docs/model.md section 2).
 
     ``q_ddot = -(omega_n^2 - omega^2) q - 2 zeta omega_n q_dot + forcing``,
     where ``forcing`` already holds the rigid-motion load and the external
     modal forces divided by the modal mass.
     """
     return -(omega_n**2 - omega**2) * q - 2.0 * damping_ratio * omega_n * q_dot + forcing
+
+
+@jitable
+def add_deflection(q, s0, c0, sin_t, cos_t, scale, out):
+    """``out[k] += scale * u2(x0 + X_k)``, ``u2 = sum_n q_n [sin(b_n x0) cos(b_n X_k) + cos(b_n x0) sin(b_n X_k)]``.
+
+    ``s0``, ``c0``: ``sin``, ``cos(beta_n x0)``; ``sin_t``, ``cos_t``: tables of ``beta_n X_k``,
+    shape ``(N, K)``. With ``q`` the modal velocities it gives ``u2_dot``.
+    """
+    for n in range(q.shape[0]):
+        a = scale * q[n] * s0[n]
+        b = scale * q[n] * c0[n]
+        for k in range(out.shape[0]):
+            out[k] += a * cos_t[n, k] + b * sin_t[n, k]
 
 
 def _mode_shapes(x, modes, rod_length):

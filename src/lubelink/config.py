@@ -7,13 +7,13 @@ the value and the rule (:class:`ConfigError`).
 
 from __future__ import annotations
 
-import difflib
 import math
 import tomllib
 from dataclasses import asdict, fields, replace
 from pathlib import Path
 
-from .params import SECTION_TYPES, Config
+from .errors import suggest
+from .params import CHOICES, SECTION_TYPES, Config
 
 __all__ = [
     "ConfigError",
@@ -56,10 +56,6 @@ SCENARIOS: dict[str, dict] = {
     },
 }
 
-FILM_MODELS = ("none", "wedge", "wedge+squeeze")
-CONTACT_LAWS = ("none", "restitution", "compliant")
-CAVITATION = ("none", "half-sommerfeld", "reynolds")
-PAD_REFERENCES = ("edge", "centre")
 
 
 class ConfigError(ValueError):
@@ -119,36 +115,37 @@ RULES = {
         "damping_ratio": _num(0, 1, hi_open=True),
     },
     "film": {
-        "model": _choice(FILM_MODELS),
+        "model": _choice(CHOICES["film.model"]),
         "viscosity": _num(0, 1e4, lo_open=True),
         "clearance": _num(0, 1, lo_open=True),
         "pad_length": _num(0, 1000, lo_open=True),
-        "pad_reference": _choice(PAD_REFERENCES),
+        "pad_reference": _choice(CHOICES["film.pad_reference"]),
         "ambient_pressure": _num(0, 1e9),
         "quadrature_nodes": _num(4, 512, integer=True),
         "sides": _choice((1, 2)),
-        "cavitation": _choice(CAVITATION),
+        "cavitation": _choice(CHOICES["film.cavitation"]),
         "cavitation_pressure": _num(0, 1e9),
         "grid_points": _num(11, 100001, integer=True),
     },
     "collar": {"mass": _num(0, 1e6)},
     "contact": {
-        "law": _choice(CONTACT_LAWS),
+        "law": _choice(CHOICES["contact.law"]),
         "restitution": _num(0, 1),
         "min_film": _num(0, 1),
         "chatter_interval": _num(0, 1, lo_open=True),
         "stiffness": _num(0, 1e16, lo_open=True),
         "exponent": _num(1, 3),
     },
+    "model": {"equations": _choice(CHOICES["model.equations"])},
     "solver": {
-        "method": _choice(("DOP853", "RK45", "Radau", "BDF", "LSODA", "bulirsch-stoer")),
+        "method": _choice(CHOICES["solver.method"]),
         "rtol": _num(1e-13, 0.1),
         "atol": _num(0, 1, lo_open=True),
         "t_end": _num(0, 1e5, lo_open=True),
         "output_step": _num(0, None, lo_open=True),
         "max_step": _num(0, None, lo_open=True, allow_inf=True),
         "max_wall_time": _num(0, None, lo_open=True, allow_inf=True),
-        "backend": _choice(("auto", "numba", "numpy")),
+        "backend": _choice(CHOICES["solver.backend"]),
     },
     "output": {
         "x_points": _num(2, 10001, integer=True),
@@ -157,11 +154,6 @@ RULES = {
 }
 
 MAX_SAMPLES = 50_000_000  # time samples x points of u2, ~400 MB of float64
-
-
-def _suggest(name, options):
-    close = difflib.get_close_matches(name, list(options), n=1)
-    return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 def _fmt(v):
@@ -249,7 +241,7 @@ def _merge(config: Config, data: dict, origin: str, problems: list) -> Config:
     sections = {}
     for section, values in data.items():
         if section not in SECTION_TYPES:
-            problems.append(f"{origin}: unknown section [{section}]{_suggest(section, SECTION_TYPES)}")
+            problems.append(f"{origin}: unknown section [{section}]{suggest(section, SECTION_TYPES)}")
             continue
         if not isinstance(values, dict):
             problems.append(f"{origin}: [{section}] must be a table of keys, got {_fmt(values)}")
@@ -259,7 +251,7 @@ def _merge(config: Config, data: dict, origin: str, problems: list) -> Config:
         updates = {}
         for key, value in values.items():
             if key not in known:
-                problems.append(f"{origin}: unknown key {section}.{key}{_suggest(key, known)}")
+                problems.append(f"{origin}: unknown key {section}.{key}{suggest(key, known)}")
                 continue
             updates[key] = _coerce(section, key, value, known[key])
         sections[section] = replace(getattr(config, section), **updates)
@@ -270,7 +262,7 @@ def scenario(name: str) -> Config:
     """The built-in scenario ``name`` (see :data:`SCENARIOS`), validated."""
     if name not in SCENARIOS:
         raise ConfigError([f"scenario = {name!r}: must be one of "
-                           + ", ".join(repr(s) for s in SCENARIOS) + _suggest(name, SCENARIOS)])
+                           + ", ".join(repr(s) for s in SCENARIOS) + suggest(name, SCENARIOS)])
     data = {k: v for k, v in SCENARIOS[name].items() if k != "description"}
     return validate(_merge(Config(), data, f"scenario {name}", []))
 
@@ -286,7 +278,7 @@ def from_dict(data: dict, origin: str = "configuration") -> Config:
     base_name = data.pop("scenario", "paper")
     if not isinstance(base_name, str) or base_name not in SCENARIOS:
         problems.append(f"{origin}: scenario = {_fmt(base_name)}: must be one of "
-                        + ", ".join(repr(s) for s in SCENARIOS) + _suggest(str(base_name), SCENARIOS))
+                        + ", ".join(repr(s) for s in SCENARIOS) + suggest(str(base_name), SCENARIOS))
         base = Config()
     else:
         base = scenario(base_name)
@@ -364,7 +356,7 @@ def resolve(source="paper", overrides=None) -> Config:
     else:
         raise ConfigError([f"source = {source!r}: not a scenario ("
                            + ", ".join(SCENARIOS) + f"), a TOML file, a dict or a Config"
-                           + (_suggest(source, SCENARIOS) if isinstance(source, str) else "")])
+                           + (suggest(source, SCENARIOS) if isinstance(source, str) else "")])
     if overrides:
         config = _apply_overrides(config, dict(overrides))
     return config

@@ -1,103 +1,166 @@
-"""Film breakdown and impact at the collar (MODEL.md section 5, D8).
+"""Film breakdown and contact at the collar (docs/model.md section 5; paper Eq. 21).
 
-The gap is the smallest film thickness on the pad; the film breaks down when
-it reaches ``xi_min``. The impact then follows Newton's law (paper Eq. 21)
-with an impulse at the contact point ``x_c`` on a collar that does not move
-transversally relative to the rigid link.
+The gap is the thinnest film on the pad (over both films of a two-sided collar); the film breaks
+down when it reaches ``xi_min`` (``contact.min_film``). Then either
+
+* the restitution law (paper Eq. 21): Newton's law at the contact point ``x_c`` with an impulse
+  on a collar that does not move transversally relative to the rigid link, a jump of the modal
+  velocities (:func:`restitution_jump`); or
+* the compliant Lankarani-Nikravesh force (:func:`lankarani_nikravesh`), switched on while the
+  film is below ``xi_min``.
+
+:class:`ContactLogic` is what the orchestrator asks at every zero of the gap: what to do next.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
+from ._jit import jitable
+from .beam import add_deflection
+from .params import CHOICES
+
 __all__ = [
+    "thinnest_film_side",
+    "thinnest_film_sides",
     "thinnest_film",
     "approach_velocity",
+    "gap_rate",
     "restitution_jump",
     "impact_energy_loss",
     "lankarani_nikravesh",
+    "compliant_force",
+    "ContactLogic",
 ]
 
-
-def _u2_and_derivatives(q, x, beta):
-    bx = np.multiply.outer(x, beta)
-    s, c = np.sin(bx), np.cos(bx)
-    return s @ q, (c * beta) @ q, -((s * beta**2) @ q)
+NO_LAW, RESTITUTION, COMPLIANT = (CHOICES["contact.law"].index(v) for v in ("none", "restitution", "compliant"))
 
 
-def thinnest_film(q, x0, pad_length, clearance, rod_length, samples=None):
-    """Smallest one-sided film ``H/2 - u2`` over the pad and where it is.
+@jitable
+def _u2_derivatives(q, x, rod_length):
+    """``u2``, ``u2'``, ``u2''`` at ``x`` [m, -, 1/m]."""
+    u = 0.0
+    d1 = 0.0
+    d2 = 0.0
+    for n in range(q.shape[0]):
+        b = (n + 1) * np.pi / rod_length
+        s = np.sin(b * x)
+        c = np.cos(b * x)
+        u += s * q[n]
+        d1 += b * c * q[n]
+        d2 -= b * b * s * q[n]
+    return u, d1, d2
 
-    The deflection is sampled on the pad and the best sample polished by
-    Newton iterations on ``u2' = 0`` (or kept at a pad edge), so the result
-    is a continuous function of the state, as an event function must be.
 
-    Parameters
-    ----------
-    q : ndarray, shape ``(N,)``
-        Modal coordinates [m].
-    x0 : float
-        Pad start on the link [m].
-    pad_length, clearance, rod_length : float
-        ``l``, ``H``, ``L`` [m].
-    samples : int, optional
-        Sample points on the pad; default ``16 + 4 N``.
+@jitable
+def thinnest_film_side(side, q, x0, pad_length, clearance, rod_length, trig):
+    """Thinnest film ``H/2 - side u2`` on the pad ``[x0, x0 + l]``, where it is, and whether at an edge.
+
+    ``u2`` is sampled at the uniform points of the table ``trig`` (``sin``, ``cos`` of
+    ``beta_n X_k``, ``X_k = k l / (K - 1)``, shape ``(2, N, K)``), the best sample polished by Newton iterations on
+    ``u2' = 0`` (or kept at a pad edge where the film thins outwards), so that the result is a
+    continuous function of the state, as an event function must be.
 
     Returns
     -------
     xi_min : float
         Smallest film thickness [m].
     x_c : float
-        Where it occurs on the link [m].
+        Where it is on the link [m].
     at_edge : bool
         Whether ``x_c`` is a pad edge (it then moves with the collar).
     """
-    N = q.shape[-1]
-    beta = np.arange(1, N + 1) * np.pi / rod_length
-    n_s = samples or 16 + 4 * N
-    xs = np.linspace(x0, x0 + pad_length, n_s)
-    u = np.sin(np.outer(xs, beta)) @ q
-    i = int(np.argmax(u))
-    if i == 0 or i == n_s - 1:
-        d1 = _u2_and_derivatives(q, np.array([xs[i]]), beta)[1][0]
-        inward = d1 < 0 if i == 0 else d1 > 0
-        if inward:
-            return 0.5 * clearance - u[i], xs[i], True
-    x = xs[i]
-    lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, n_s - 1)]
+    N = q.shape[0]
+    K = trig.shape[2]
+    s0 = np.empty(N)
+    c0 = np.empty(N)
+    for n in range(N):
+        s0[n] = np.sin((n + 1) * np.pi / rod_length * x0)
+        c0[n] = np.cos((n + 1) * np.pi / rod_length * x0)
+    u = np.zeros(K)
+    add_deflection(q, s0, c0, trig[0], trig[1], side, u)
+    i = np.argmax(u)
+    step = pad_length / (K - 1)
+    x_i = x0 + pad_length if i == K - 1 else x0 + i * step
+    if i == 0 or i == K - 1:
+        d1 = side * _u2_derivatives(q, x_i, rod_length)[1]
+        if (d1 < 0.0) if i == 0 else (d1 > 0.0):
+            return 0.5 * clearance - u[i], x_i, True
+    lo = x0 + max(i - 1, 0) * step
+    hi = min(x0 + (i + 1) * step, x0 + pad_length)
+    x = x_i
     for _ in range(8):
-        _, d1, d2 = _u2_and_derivatives(q, np.array([x]), beta)
-        if d2[0] >= 0:
+        _, d1, d2 = _u2_derivatives(q, x, rod_length)
+        d1 *= side
+        d2 *= side
+        if d2 >= 0.0:
             break
-        x_new = min(max(x - d1[0] / d2[0], lo), hi)
+        x_new = min(max(x - d1 / d2, lo), hi)
         if abs(x_new - x) < 1e-15 * max(1.0, abs(x)):
             x = x_new
             break
         x = x_new
-    u_x = np.sin(beta * x) @ q
+    u_x = side * _u2_derivatives(q, x, rod_length)[0]
     if u_x < u[i]:
-        x, u_x = xs[i], u[i]
-    edge = x <= x0 or x >= x0 + pad_length
-    return 0.5 * clearance - u_x, x, bool(edge)
+        x, u_x = x_i, u[i]
+    return 0.5 * clearance - u_x, x, x <= x0 or x >= x0 + pad_length
 
 
+@jitable
+def thinnest_film_sides(q, x0, f, pad, rod_length, only_side):
+    """Thinnest film over the films of ``f`` (or on ``only_side`` if non-zero): ``(xi, x_c, at_edge, side)``."""
+    trig = pad.sample_trig
+    if only_side != 0.0:
+        xi, x_c, edge = thinnest_film_side(only_side, q, x0, f.pad_length, f.clearance, rod_length, trig)
+        return xi, x_c, edge, only_side
+    xi, x_c, edge = thinnest_film_side(1.0, q, x0, f.pad_length, f.clearance, rod_length, trig)
+    side = 1.0
+    if f.sides == 2:
+        xi2, x_c2, edge2 = thinnest_film_side(-1.0, q, x0, f.pad_length, f.clearance, rod_length, trig)
+        if xi2 < xi:
+            xi, x_c, edge, side = xi2, x_c2, edge2, -1.0
+    return xi, x_c, edge, side
+
+
+def thinnest_film(q, x0, pad_length, clearance, rod_length, samples=None):
+    """:func:`thinnest_film_side` of the film ``H/2 - u2`` with ``samples`` points (default ``16 + 4 N``)."""
+    q = np.asarray(q, dtype=float)
+    Xs = np.linspace(0.0, pad_length, samples or 16 + 4 * q.shape[-1])
+    bX = np.outer(np.arange(1, q.shape[-1] + 1) * np.pi / rod_length, Xs)
+    return thinnest_film_side(1.0, q, x0, pad_length, clearance, rod_length, np.stack([np.sin(bX), np.cos(bX)]))
+
+
+@jitable
 def approach_velocity(q, q_dot, x_c, V_c, rod_length):
-    """Normal velocity at which the link closes the gap at ``x_c`` [m/s].
+    """Normal velocity at which the link closes the gap at ``x_c`` [m/s], positive closing.
 
-    ``v_c = u2_dot(x_c) + u2'(x_c) V_c`` where ``V_c`` is the velocity of the
-    contact point along the link: the collar velocity ``V_r`` when ``x_c`` is
-    a pad edge (the collar corner slides over the sloped link), 0 at an
-    interior extremum (where ``u2' = 0`` anyway). Positive closes the gap.
+    ``v_c = u2_dot(x_c) + u2'(x_c) V_c`` where ``V_c`` is the velocity of the contact point along
+    the link: the collar velocity ``V_r`` when ``x_c`` is a pad edge (the collar corner slides
+    over the sloped link), 0 at an interior extremum (where ``u2' = 0`` anyway). It is minus the
+    rate of the thinnest film (the envelope of the film over the pad).
     """
-    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
-    return float(np.sin(beta * x_c) @ q_dot + (beta * np.cos(beta * x_c)) @ q * V_c)
+    v = 0.0
+    for n in range(q.shape[0]):
+        b = (n + 1) * np.pi / rod_length
+        v += np.sin(b * x_c) * q_dot[n] + b * np.cos(b * x_c) * q[n] * V_c
+    return v
 
 
+@jitable
+def gap_rate(q, q_dot, x_c, at_edge, side, V_r, rod_length):
+    """Rate of the thinnest film [m/s]: minus the approach velocity on ``side`` at ``x_c``."""
+    return -side * approach_velocity(q, q_dot, x_c, V_r if at_edge else 0.0, rod_length)
+
+
+@jitable
 def restitution_jump(q_dot, x_c, v_minus, restitution, rod_length):
-    """Modal velocities after an impact at ``x_c`` [m/s] (MODEL.md section 5).
+    """Modal velocities after an impact at ``x_c`` [m/s] (docs/model.md section 5, paper Eq. 21).
 
-    ``Delta q_dot_n = -(1 + e) v_c^- s_n / sum_m s_m^2`` with
-    ``s_n = sin(beta_n x_c)``; the displacements do not jump.
+    ``Delta q_dot_n = -(1 + e) v_c^- s_n / sum_m s_m^2`` with ``s_n = sin(beta_n x_c)``: Newton's
+    law ``v_c^+ = -e v_c^-`` at the contact point with the impulse-consistent (equal modal
+    masses: minimum-norm) jump; the displacements do not jump.
 
     Parameters
     ----------
@@ -110,24 +173,27 @@ def restitution_jump(q_dot, x_c, v_minus, restitution, rod_length):
     restitution : float
         ``e`` [-].
     """
-    s = np.sin(np.arange(1, q_dot.shape[-1] + 1) * np.pi / rod_length * x_c)
-    return q_dot - (1.0 + restitution) * v_minus * s / (s @ s)
+    N = q_dot.shape[0]
+    s = np.sin(np.arange(1, N + 1) * np.pi / rod_length * x_c)
+    return q_dot - (1.0 + restitution) * v_minus * s / np.sum(s * s)
 
 
+@jitable
 def impact_energy_loss(v_minus, x_c, restitution, modes, mass, rod_length):
-    """Energy lost in one impact [J]: ``(1 - e^2)/2 * m / sum s_m^2 * (v_c^-)^2``.
+    """Energy lost in one impact at an interior contact [J]: ``(1 - e^2)/2 * m / sum s_m^2 * (v_c^-)^2``.
 
-    ``mass`` is the modal mass ``rho A L / 2`` [kg].
+    ``mass`` is the modal mass ``rho A L / 2`` [kg]. At a pad edge the sliding collar does work
+    on the link as well (:meth:`ContactLogic` records both).
     """
     s = np.sin(np.arange(1, modes + 1) * np.pi / rod_length * x_c)
-    return 0.5 * (1.0 - restitution**2) * mass / (s @ s) * v_minus**2
+    return 0.5 * (1.0 - restitution**2) * mass / np.sum(s * s) * v_minus**2
 
 
+@jitable
 def lankarani_nikravesh(delta, delta_dot, v_minus, stiffness, exponent, restitution):
     """Compliant contact force [N] (Lankarani & Nikravesh 1990, J. Mech. Des. 112).
 
-    ``F = K delta^n (1 + 3 (1 - e^2)/4 * delta_dot / v_minus)``, clipped at 0
-    (no adhesion).
+    ``F = K delta^n (1 + 3 (1 - e^2)/4 * delta_dot / v_minus)``, never adhesive (``F >= 0``).
 
     Parameters
     ----------
@@ -136,8 +202,8 @@ def lankarani_nikravesh(delta, delta_dot, v_minus, stiffness, exponent, restitut
     delta_dot : float
         Penetration rate [m/s].
     v_minus : float
-        Approach velocity when the contact began [m/s]; the damping term is
-        dropped for a grazing contact (``v_minus <= 0``).
+        Approach velocity when the contact began [m/s]; the damping term is dropped for a
+        grazing contact (``v_minus <= 0``).
     stiffness : float
         ``K`` [N/m^n].
     exponent : float
@@ -149,3 +215,67 @@ def lankarani_nikravesh(delta, delta_dot, v_minus, stiffness, exponent, restitut
         return 0.0
     damping = 0.75 * (1.0 - restitution**2) * delta_dot / v_minus if v_minus > 0.0 else 0.0
     return max(stiffness * delta**exponent * (1.0 + damping), 0.0)
+
+
+@jitable
+def compliant_force(q, q_dot, x0, V_r, f, c, pad, rod_length, side, v_minus, F):
+    """Add the compliant contact's modal force on ``side`` to ``F`` [N]; return its magnitude [N].
+
+    The Lankarani-Nikravesh force of the penetration below ``min_film`` acts at the thinnest-film
+    point against the side's normal.
+    """
+    xi, x_c, at_edge, _ = thinnest_film_sides(q, x0, f, pad, rod_length, side)
+    delta = c.min_film - xi
+    if delta <= 0.0:
+        return 0.0
+    delta_dot = side * approach_velocity(q, q_dot, x_c, V_r if at_edge else 0.0, rod_length)
+    force = lankarani_nikravesh(delta, delta_dot, v_minus, c.stiffness, c.exponent, c.restitution)
+    for n in range(q.shape[0]):
+        F[n] -= side * force * np.sin((n + 1) * np.pi / rod_length * x_c)
+    return force
+
+
+@dataclass
+class ContactLogic:
+    """What happens at a zero of the gap: the contact law's response, and the record of impacts.
+
+    :meth:`on_event` is called with the states on both sides of the located zero. It returns
+    ``(status, message, t, y, phase)``: ``status`` None to go on from ``(t, y)`` with the
+    compliant ``phase`` (None outside contact), or the reason to stop (``"film_breakdown"``,
+    ``"chatter"``).
+    """
+
+    model: object
+    impacts: list = field(default_factory=list)
+    max_impacts: int = 100_000
+
+    def on_event(self, t_before, y_before, t_after, y_after, phase):
+        model = self.model
+        ct = model.config.contact
+        N = model.modes
+        if ct.law == "none":
+            return ("film_breakdown",
+                    f"the film thinned to contact.min_film = {ct.min_film} m at t = {t_after:.9g} s and "
+                    "contact.law = 'none'; set contact.law = 'restitution' or 'compliant', or a larger "
+                    "film.clearance", t_after, y_after, None)
+        if ct.law == "compliant":
+            v, x_c, side = model.approach(t_after, y_after)
+            if phase is None:  # the film closes: contact from the first state below min_film
+                self.impacts.append([t_after, x_c, v, np.nan, side, y_after[:N].copy(), y_after[N:].copy(), None])
+                return None, "", t_after, y_after, (side, v)
+            self.impacts[-1][3] = v  # the film reopens
+            self.impacts[-1][7] = y_after[N:].copy()
+            return None, "", t_after, y_after, None
+        # restitution: the jump applies to the last state above min_film, so the gap then opens
+        y_plus, x_c, v_minus, side = model.impact(t_before, y_before)
+        v_plus = -ct.restitution * v_minus if v_minus > 0 else v_minus
+        previous = self.impacts[-1][0] if self.impacts else -np.inf
+        self.impacts.append([t_before, x_c, v_minus, v_plus, side, y_before[:N].copy(), y_before[N:].copy(),
+                             y_plus[N:].copy()])
+        if t_before - previous < ct.chatter_interval or len(self.impacts) > self.max_impacts:
+            return ("chatter",
+                    f"impacts at t = {previous:.12g} s and {t_before:.12g} s are closer than "
+                    f"contact.chatter_interval = {ct.chatter_interval} s: the link chatters (sustained "
+                    "contact), which the restitution law cannot resolve; try contact.law = 'compliant'",
+                    t_before, y_before, None)
+        return None, "", t_before, y_plus, None

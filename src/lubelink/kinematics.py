@@ -1,16 +1,17 @@
-"""Prescribed rigid-body motion of the link (MODEL.md section 3, decision D2).
+"""Prescribed rigid-body motion of the link (docs/model.md section 3).
 
-The beam model needs five functions of time: the true transverse
-acceleration of the link end O, ``A_O2``, the link's angular velocity
-``omega`` and acceleration ``alpha``, the collar position along the link
-``x_star`` and its velocity relative to the link ``V_r``. A *motion* is any
-object with ``__call__(t) -> RigidMotion`` and ``joint_reaction(t, mass)``.
+The beam needs, as functions of time, the true transverse acceleration of the link end O
+(``A_O2``), the link's angular velocity ``omega`` and acceleration ``alpha``, the collar position
+along the link ``x_star`` and its velocity relative to the link ``V_r``; and, for the extensions,
+the joint reaction on the link, the link angle (gravity) and ``v_O1`` (the paper's printed
+equation variant). :func:`motion_at` evaluates all of them for one time in compiled code, from a
+:class:`MotionTable`:
 
-Providers:
+* the slider-crank of the paper's Section 6 in closed form (:func:`slider_crank_state`);
+* sampled motions (:func:`sampled_motion`), as piecewise cubics.
 
-* :class:`SliderCrank`: the paper's Section 6 mechanism (closed forms).
-* :class:`PrescribedMotion`: user callables.
-* :func:`sampled_motion`: user samples, interpolated by cubic splines.
+A motion given as Python callables (:class:`PrescribedMotion`) cannot enter compiled code; it runs
+on the ``numpy`` backend, evaluated by :meth:`PrescribedMotion.kinematics`.
 """
 
 from __future__ import annotations
@@ -21,16 +22,28 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
+from ._jit import jitable
 from .params import Mechanism
 
 __all__ = [
     "RigidMotion",
+    "MotionTable",
+    "SLIDER_CRANK",
+    "SAMPLED",
+    "slider_crank_state",
     "slider_crank",
+    "motion_at",
     "SliderCrank",
     "PrescribedMotion",
+    "SampledMotion",
     "sampled_motion",
     "collar_travel",
 ]
+
+#: ``MotionTable.kind`` of the closed-form slider-crank and of a sampled (spline) motion.
+SLIDER_CRANK, SAMPLED = 0, 1
+#: Channels of a sampled motion, in the order of the rows of ``MotionTable.coef``.
+CHANNELS = ("A_O2", "omega", "alpha", "x_star", "V_r", "reaction", "angle")
 
 
 class RigidMotion(NamedTuple):
@@ -57,78 +70,126 @@ class RigidMotion(NamedTuple):
     V_r: np.ndarray
 
 
-def slider_crank(t, crank_length, rod_length, crank_speed, guide_distance):
-    """Kinematics of the Section 6 slider-crank and its collar.
+class MotionTable(NamedTuple):
+    """A motion in the form compiled code evaluates (:func:`motion_at`).
 
-    The crank turns anticlockwise about the fixed pivot at the origin with
-    ``phi = omega0 t``; O is the crank pin, the slider C runs on the +X axis,
-    ``i`` points from O to C and the collar sits on the link under a vertical
-    guide at ``X = a`` (MODEL.md section 3).
+    ``kind`` is :data:`SLIDER_CRANK` (the four lengths and speed are used) or :data:`SAMPLED`
+    (``knots`` [s] and ``coef``, shape ``(7, 4, knots.size - 1)``: for each of
+    :data:`CHANNELS` the cubic coefficients on each interval, highest power first).
+    ``collar_mass`` [kg] scales the slider-crank's joint reaction (D7).
+    """
+
+    kind: int
+    crank_length: float
+    rod_length: float
+    crank_speed: float
+    guide_distance: float
+    collar_mass: float
+    knots: np.ndarray
+    coef: np.ndarray
+
+
+@jitable
+def slider_crank_state(t, crank_length, rod_length, crank_speed, guide_distance):
+    """Kinematics of the Section 6 slider-crank and its collar (docs/model.md section 3).
+
+    The crank turns anticlockwise about the fixed pivot at the origin with ``phi = omega0 t``;
+    O is the crank pin, the slider C runs on the +X axis, ``i`` points from O to C and the collar
+    sits on the link under a vertical guide at ``X = a``. ``v_O1``, ``A_O2``, ``omega`` and
+    ``alpha`` are the paper's Section 6 formulas; ``x_star`` and ``V_r`` follow from the guide.
+    Works on a float (compiled) and elementwise on arrays (NumPy).
 
     Parameters
     ----------
-    t : float or array_like
+    t : float or ndarray
         Time [s].
-    crank_length : float
-        ``OA`` [m].
-    rod_length : float
-        ``L`` [m].
-    crank_speed : float
-        ``omega0`` [rad/s].
-    guide_distance : float
-        ``a`` [m].
+    crank_length, rod_length, crank_speed, guide_distance : float
+        ``OA`` [m], ``L`` [m], ``omega0`` [rad/s], ``a`` [m].
 
     Returns
     -------
-    dict of ndarray
-        ``theta`` [rad] (the link angle is ``-theta``), ``v_O1`` [m/s],
-        ``A_O2`` [m/s^2], ``omega`` [rad/s], ``alpha`` [rad/s^2],
-        ``x_star`` [m], ``V_r`` [m/s], ``A_r`` (``d V_r/dt``) [m/s^2] and
-        ``Y_ddot``, the vertical acceleration of the collar [m/s^2].
-
-    Notes
-    -----
-    ``v_O1``, ``A_O2``, ``omega`` and ``alpha`` are the paper's Section 6
-    formulas; ``x_star`` and ``V_r`` follow from the guide geometry (D6).
+    tuple
+        ``(theta [rad], v_O1 [m/s], A_O2 [m/s^2], omega [rad/s], alpha [rad/s^2], x_star [m],
+        V_r [m/s], A_r [m/s^2], Y_ddot [m/s^2], cos_theta [-])``: ``-theta`` is the link angle,
+        ``A_r = dV_r/dt`` and ``Y_ddot`` the vertical acceleration of the collar.
     """
-    t = np.asarray(t, dtype=float)
-    OA, L, w0, a = crank_length, rod_length, crank_speed, guide_distance
-    lam = OA / L
+    OA, w0, a = crank_length, crank_speed, guide_distance
+    lam = OA / rod_length
     phi = w0 * t
-    sphi, cphi = np.sin(phi), np.cos(phi)
+    sphi = np.sin(phi)
+    cphi = np.cos(phi)
     s_th = lam * sphi
-    c_th = np.sqrt(1.0 - s_th**2)
-    theta = np.arcsin(s_th)
+    c_th = np.sqrt(1.0 - s_th * s_th)
     s_sum = sphi * c_th + cphi * s_th  # sin(phi + theta)
-
     v_O1 = -OA * w0 * s_sum
-    A_O2 = -OA * w0**2 * s_sum
+    A_O2 = -OA * w0 * w0 * s_sum
     omega = -lam * w0 * cphi / c_th
-    alpha = lam * w0**2 * sphi / c_th - lam**3 * w0**2 * cphi**2 * sphi / c_th**3
-
+    alpha = lam * w0 * w0 * sphi / c_th - lam**3 * w0 * w0 * cphi * cphi * sphi / c_th**3
     theta_dot = -omega
     theta_ddot = -alpha
     x_star = (a - OA * cphi) / c_th
-    V_r = (OA * w0 * sphi * c_th + (a - OA * cphi) * s_th * theta_dot) / c_th**2
-    A_r = (
-        OA * w0**2 * cphi
-        + 2.0 * V_r * s_th * theta_dot
-        + x_star * (c_th * theta_dot**2 + s_th * theta_ddot)
-    ) / c_th
+    V_r = (OA * w0 * sphi * c_th + (a - OA * cphi) * s_th * theta_dot) / (c_th * c_th)
+    A_r = (OA * w0 * w0 * cphi + 2.0 * V_r * s_th * theta_dot
+           + x_star * (c_th * theta_dot * theta_dot + s_th * theta_ddot)) / c_th
     lever = OA - lam * x_star  # Y = sin(phi) * lever
-    Y_ddot = -(w0**2) * sphi * lever - 2.0 * lam * w0 * cphi * V_r - lam * sphi * A_r
-    return {
-        "theta": theta,
-        "v_O1": v_O1,
-        "A_O2": A_O2,
-        "omega": omega,
-        "alpha": alpha,
-        "x_star": x_star,
-        "V_r": V_r,
-        "A_r": A_r,
-        "Y_ddot": Y_ddot,
-        "cos_theta": c_th,
-    }
+    Y_ddot = -w0 * w0 * sphi * lever - 2.0 * lam * w0 * cphi * V_r - lam * sphi * A_r
+    return np.arcsin(s_th), v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th
+
+
+def slider_crank(t, crank_length, rod_length, crank_speed, guide_distance):
+    """:func:`slider_crank_state` as a dict of arrays, keyed by name.
+
+    Keys: ``theta``, ``v_O1``, ``A_O2``, ``omega``, ``alpha``, ``x_star``, ``V_r``, ``A_r``,
+    ``Y_ddot``, ``cos_theta`` (units as :func:`slider_crank_state`).
+    """
+    names = ("theta", "v_O1", "A_O2", "omega", "alpha", "x_star", "V_r", "A_r", "Y_ddot", "cos_theta")
+    values = slider_crank_state(np.asarray(t, dtype=float), crank_length, rod_length, crank_speed,
+                                guide_distance)
+    return dict(zip(names, values))
+
+
+@jitable
+def piecewise_cubic(t, knots, coef, channel):
+    """Value at ``t`` of channel ``channel`` of a piecewise cubic (``scipy.interpolate.PPoly`` layout).
+
+    Outside the knots the end pieces are extended, as ``PPoly`` does.
+    """
+    m = knots.shape[0] - 1
+    i = np.searchsorted(knots, t, side="right") - 1
+    if i < 0:
+        i = 0
+    elif i > m - 1:
+        i = m - 1
+    dx = t - knots[i]
+    return ((coef[channel, 0, i] * dx + coef[channel, 1, i]) * dx + coef[channel, 2, i]) * dx + coef[channel, 3, i]
+
+
+@jitable
+def motion_at(t, m):
+    """Rigid motion of the link at time ``t`` [s] for the motion table ``m`` (:class:`MotionTable`).
+
+    Returns
+    -------
+    tuple of float
+        ``(A_O2 [m/s^2], omega [rad/s], alpha [rad/s^2], x_star [m], V_r [m/s],
+        reaction [N], angle [rad], v_O1 [m/s])``: ``reaction`` is the force of the collar on the
+        link along +j (D7: ``-m_c Y_ddot / cos(theta)`` for the slider-crank), ``angle`` that of
+        the link axis ``i`` about +k from +X (gravity), ``v_O1`` the axial velocity of O (NaN for
+        a sampled motion).
+    """
+    if m.kind == SLIDER_CRANK:
+        theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
+            t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
+        reaction = -m.collar_mass * Y_ddot / c_th
+        return A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1
+    return (piecewise_cubic(t, m.knots, m.coef, 0), piecewise_cubic(t, m.knots, m.coef, 1),
+            piecewise_cubic(t, m.knots, m.coef, 2), piecewise_cubic(t, m.knots, m.coef, 3),
+            piecewise_cubic(t, m.knots, m.coef, 4), piecewise_cubic(t, m.knots, m.coef, 5),
+            piecewise_cubic(t, m.knots, m.coef, 6), np.nan)
+
+
+def _no_table():
+    return np.zeros(2), np.zeros((len(CHANNELS), 4, 1))
 
 
 @dataclass(frozen=True)
@@ -145,44 +206,46 @@ class SliderCrank:
         k = self._kin(t)
         return RigidMotion(k["A_O2"], k["omega"], k["alpha"], k["x_star"], k["V_r"])
 
+    def table(self, collar_mass=0.0) -> MotionTable:
+        """The :class:`MotionTable` of this motion for the compiled code."""
+        m = self.mechanism
+        knots, coef = _no_table()
+        return MotionTable(SLIDER_CRANK, float(m.crank_length), float(m.rod_length), float(m.crank_speed),
+                           float(m.guide_distance), float(collar_mass), knots, coef)
+
     def joint_reaction(self, t, mass):
         """Force of the collar on the link along +j [N] (D7).
 
-        The collar and its guided member (mass ``m_c``) move vertically with
-        the link point under the guide; the guide takes horizontal force only,
-        so the link pushes the collar with ``m_c Y_ddot / cos(theta)`` along
-        +j and, by reaction, is pushed with the opposite force.
+        The collar and its guided member (mass ``m_c``) move vertically with the link point under
+        the guide; the guide takes horizontal force only, so the link pushes the collar with
+        ``m_c Y_ddot / cos(theta)`` along +j and, by reaction, is pushed with the opposite force.
         """
-        if mass == 0.0:
-            return np.zeros_like(np.asarray(t, dtype=float))
         k = self._kin(t)
         return -mass * k["Y_ddot"] / k["cos_theta"]
 
     def link_angle(self, t):
         """Angle of the link axis ``i`` about +k from +X [rad]: ``-theta``."""
-        m = self.mechanism
-        return -np.arcsin(m.crank_length / m.rod_length * np.sin(m.crank_speed * np.asarray(t, dtype=float)))
+        return -self._kin(t)["theta"]
 
     @property
     def period(self) -> float:
         """Crank period [s]."""
-        return 2.0 * np.pi / self.mechanism.crank_speed
+        return 2.0 * np.pi / abs(self.mechanism.crank_speed)
 
 
 @dataclass(frozen=True)
 class PrescribedMotion:
-    """A rigid motion given by user callables of time (each vectorised).
+    """A rigid motion given by user callables of time (each vectorised). Runs on the ``numpy`` backend.
 
     Parameters
     ----------
     A_O2, omega, alpha, x_star, V_r : callable
         Functions of time [s] returning the quantities of :class:`RigidMotion`.
     reaction : callable, optional
-        Force of the collar on the link along +j [N] as a function of time;
-        zero if omitted.
+        Force of the collar on the link along +j [N] as a function of time; zero if omitted.
     angle : callable, optional
-        Angle of the link axis about +k from the fixed +X axis [rad], used
-        only to resolve gravity; zero (horizontal link) if omitted.
+        Angle of the link axis about +k from the fixed +X axis [rad], used only to resolve
+        gravity; zero (horizontal link) if omitted.
     """
 
     A_O2: Callable
@@ -193,42 +256,68 @@ class PrescribedMotion:
     reaction: Callable | None = None
     angle: Callable | None = None
 
-    def link_angle(self, t):
+    def table(self, collar_mass=0.0):
+        """None: Python callables cannot be compiled (see :func:`sampled_motion`)."""
+        return None
+
+    def _value(self, f, t):
         t = np.asarray(t, dtype=float)
-        return np.zeros_like(t) if self.angle is None else np.broadcast_to(np.asarray(self.angle(t), float), t.shape)
+        if f is None:
+            return np.zeros_like(t) if t.ndim else 0.0
+        if t.ndim == 0:
+            return float(f(t))
+        return np.broadcast_to(np.asarray(f(t), dtype=float), t.shape)
+
+    def link_angle(self, t):
+        return self._value(self.angle, t)
 
     def __call__(self, t) -> RigidMotion:
-        functions = (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r)
-        if np.ndim(t) == 0:
-            return RigidMotion(*(float(f(t)) for f in functions))
-        t = np.asarray(t, dtype=float)
-        return RigidMotion(*(np.broadcast_to(np.asarray(f(t), float), t.shape) for f in functions))
+        return RigidMotion(*(self._value(f, t) for f in (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r)))
 
     def joint_reaction(self, t, mass):
-        t = np.asarray(t, dtype=float)
-        if self.reaction is None:
-            return np.zeros_like(t)
-        return np.broadcast_to(np.asarray(self.reaction(t), float), t.shape)
+        return self._value(self.reaction, t)
+
+    def kinematics(self, t):
+        """The tuple of :func:`motion_at` at one time ``t`` [s], from the callables."""
+        k = self(t)
+        return (float(k.A_O2), float(k.omega), float(k.alpha), float(k.x_star), float(k.V_r),
+                float(self._value(self.reaction, t)), float(self._value(self.angle, t)), np.nan)
 
 
-def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None):
-    """A :class:`PrescribedMotion` from samples, by C2 cubic splines.
+@dataclass(frozen=True, eq=False)
+class SampledMotion(PrescribedMotion):
+    """A motion from samples (:func:`sampled_motion`): the callables are the splines, compiled as a table."""
 
-    ``alpha`` defaults to the spline derivative of ``omega`` and ``V_r`` to
-    that of ``x_star``, so the five functions stay mutually consistent.
+    knots: np.ndarray | None = None
+    coef: np.ndarray | None = None
+
+    def table(self, collar_mass=0.0) -> MotionTable:
+        return MotionTable(SAMPLED, 0.0, 1.0, 0.0, 0.0, float(collar_mass), self.knots, self.coef)
+
+    @property
+    def span(self):
+        """``(first, last)`` sample time [s]."""
+        return float(self.knots[0]), float(self.knots[-1])
+
+
+def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None, angle=None):
+    """A motion from samples, interpolated by C2 cubic splines; it runs compiled.
+
+    ``alpha`` defaults to the spline derivative of ``omega`` and ``V_r`` to that of ``x_star``,
+    so the five functions stay mutually consistent.
 
     Parameters
     ----------
     t : array_like
         Strictly increasing sample times [s], at least 4.
-    A_O2, omega, x_star, alpha, V_r, reaction : array_like
-        Samples at ``t`` in the units of :class:`RigidMotion` (reaction [N]).
+    A_O2, omega, x_star, alpha, V_r, reaction, angle : array_like
+        Samples at ``t`` in the units of :class:`RigidMotion` (``reaction`` [N], ``angle`` [rad]).
     """
     from scipy.interpolate import CubicSpline
 
     t = np.asarray(t, dtype=float)
-    if t.ndim != 1 or t.size < 4 or not np.all(np.diff(t) > 0):
-        raise ValueError("sampled_motion: t must be a strictly increasing 1-D array of at least 4 times")
+    if t.ndim != 1 or t.size < 4 or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+        raise ValueError("sampled_motion: t must be a strictly increasing 1-D array of at least 4 finite times")
 
     def spline(name, values):
         values = np.asarray(values, dtype=float)
@@ -238,32 +327,41 @@ def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None):
 
     s_omega = spline("omega", omega)
     s_x = spline("x_star", x_star)
-    return PrescribedMotion(
-        A_O2=spline("A_O2", A_O2),
-        omega=s_omega,
-        alpha=s_omega.derivative() if alpha is None else spline("alpha", alpha),
-        x_star=s_x,
-        V_r=s_x.derivative() if V_r is None else spline("V_r", V_r),
-        reaction=None if reaction is None else spline("reaction", reaction),
-    )
+    splines = {
+        "A_O2": spline("A_O2", A_O2),
+        "omega": s_omega,
+        "alpha": s_omega.derivative() if alpha is None else spline("alpha", alpha),
+        "x_star": s_x,
+        "V_r": s_x.derivative() if V_r is None else spline("V_r", V_r),
+        "reaction": None if reaction is None else spline("reaction", reaction),
+        "angle": None if angle is None else spline("angle", angle),
+    }
+    coef = np.zeros((len(CHANNELS), 4, t.size - 1))
+    for i, name in enumerate(CHANNELS):
+        s = splines[name]
+        if s is not None:
+            coef[i, 4 - s.c.shape[0]:] = s.c
+    return SampledMotion(A_O2=splines["A_O2"], omega=s_omega, alpha=splines["alpha"], x_star=s_x,
+                         V_r=splines["V_r"], reaction=splines["reaction"], angle=splines["angle"],
+                         knots=t, coef=np.ascontiguousarray(coef))
 
 
 @lru_cache(maxsize=4096)
 def collar_travel(mechanism: Mechanism, samples: int = 4097):
     """Smallest and largest collar position over one crank turn [m].
 
-    Sampled on a fine grid of crank angles, then polished by a bounded scalar
-    minimisation around the extreme samples.
+    Sampled on a fine grid of crank angles, then polished by a bounded scalar minimisation around
+    the extreme samples.
     """
     from scipy.optimize import minimize_scalar
 
     m = mechanism
 
     def x_of(phi):  # x_star depends on the crank angle only: use unit crank speed
-        return slider_crank(phi, m.crank_length, m.rod_length, 1.0, m.guide_distance)["x_star"]
+        return slider_crank_state(np.asarray(phi, dtype=float), m.crank_length, m.rod_length, 1.0,
+                                  m.guide_distance)[5]
 
-    period = 2.0 * np.pi
-    ts = np.linspace(0.0, period, samples)
+    ts = np.linspace(0.0, 2.0 * np.pi, samples)
     xs = x_of(ts)
     dt = ts[1] - ts[0]
     i_lo, i_hi = int(np.argmin(xs)), int(np.argmax(xs))

@@ -1,181 +1,325 @@
-"""The modal ODE right-hand side assembled from the physics modules.
+"""The modal model assembled from the physics: its parameters for compiled code, right-hand side and gap.
 
-State ``y = [q_1..q_N, q_dot_1..q_dot_N]``. The right-hand side is the
-corrected modal equation of MODEL.md section 2:
+State ``y = [q_1..q_N, q_dot_1..q_dot_N]``. The right-hand side (:func:`rhs`) is the corrected
+modal equation (docs/model.md section 2, paper Eq. 18 corrected):
 
     q_ddot_n = -(omega_n^2 - omega^2) q_n - 2 zeta omega_n q_dot_n
                - 2/(L beta_n) {(A_O2 - g_j) [1 + (-1)^(n+1)] + alpha L (-1)^(n+1)}
                + (F_n^film + F_n^contact + R sin(beta_n x_star)) / (rho A L / 2)
 
-``g_j`` is gravity along the link's ``j`` axis (zero unless configured).
-A side ``s = +1`` is the film at ``H/2 - u2`` (the paper's), ``s = -1`` the
-film at ``H/2 + u2`` of a collar that encloses the link; every one-sided
-function is applied to the mirrored state ``s q`` and its result mirrored
-back.
+with ``g_j`` gravity along the link's ``j`` axis. Every term comes from its physics module
+(:mod:`.kinematics`, :mod:`.beam`, :mod:`.film`, :mod:`.contact`); :func:`rhs`, :func:`gap` (the event
+and its rate) are what the integrators run, compiled, or as Python on the ``numpy`` backend.
+
+The paper's printed equations are variants of the same right-hand side (``model.equations``):
+``printed-omega2`` adds ``-2 omega^2 q_n`` (Eq. 18's ``+omega^2``), ``double-count`` forces with
+``A_O2 + omega v_O1`` (Eq. 18's ``a_O2 + omega v_O1`` read with Section 6's true ``a_O2``),
+``printed`` both, ``printed-film-sign`` reverses the film force (Eq. 20's ``+B P``).
 """
 
 from __future__ import annotations
 
+import logging
+import warnings
 from dataclasses import dataclass
+from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
-from . import beam, contact, film
-from .kinematics import SliderCrank
-from .params import Config
+from . import _jit, beam, contact, film
+from ._jit import jitable, kernel
+from .kinematics import MotionTable, SliderCrank, motion_at
+from .params import CHOICES, Config, kernel_view
 
-__all__ = ["Model", "build_model", "ContactPhase"]
+__all__ = ["Params", "Basis", "ContactPhase", "Model", "build_model", "rhs", "gap", "rhs_given", "BackendError"]
+
+log = logging.getLogger("lubelink")
+
+_EQ = CHOICES["model.equations"]
+PRINTED_OMEGA2, DOUBLE_COUNT, PRINTED, PRINTED_FILM_SIGN = (_EQ.index(v) for v in _EQ[1:])
 
 
-@dataclass
-class ContactPhase:
-    """A compliant contact in progress: which side, and its approach velocity [m/s]."""
+class Basis(NamedTuple):
+    """The sine modes: ``modes`` [-], ``rod_length`` [m], ``omega_n`` [rad/s], ``modal_mass`` [kg]."""
 
-    side: int
+    modes: int
+    rod_length: float
+    omega_n: np.ndarray
+    modal_mass: float
+
+
+class ContactPhase(NamedTuple):
+    """A compliant contact in progress: ``side`` (+1, -1; 0 for none) and its approach velocity [m/s]."""
+
+    side: float
     v_minus: float
 
 
+Phase = ContactPhase
+
+
+class Params(NamedTuple):
+    """Everything compiled code reads, generated from a :class:`~lubelink.params.Config`.
+
+    The sections are :func:`~lubelink.params.kernel_view` s of the dataclasses (same field
+    names); ``basis``, ``pad`` and ``motion`` are tables derived from them; ``phase`` is the
+    compliant contact of the segment.
+    """
+
+    mechanism: tuple
+    beam: tuple
+    film: tuple
+    collar: tuple
+    contact: tuple
+    model: tuple
+    basis: Basis
+    pad: film.PadTables
+    motion: MotionTable
+    phase: Phase
+
+
+NO_PHASE = Phase(0.0, 0.0)
+
+
+class BackendError(ValueError):
+    """A backend was asked for that cannot run this configuration; names the setting."""
+
+
+# --- the right-hand side ----------------------------------------------------------------------------
+@jitable
+def rhs_given(t, kin, y, out, p):
+    """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
+    A_O2, omega, alpha, x_star, V_r, reaction, angle, v_O1 = kin
+    N = p.basis.modes
+    L = p.basis.rod_length
+    q = y[:N]
+    q_dot = y[N:]
+    F = out[N:]  # modal forces [N], accumulated here before the accelerations replace them
+    F[:] = 0.0
+    film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
+    if p.model.equations == PRINTED_FILM_SIGN:
+        F *= -1.0
+    if reaction != 0.0:
+        for n in range(N):
+            F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)
+    if p.phase.side != 0.0:
+        x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
+        contact.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, L, p.phase.side, p.phase.v_minus, F)
+    gX, gY = p.mechanism.gravity
+    A_eff = A_O2
+    if gX != 0.0 or gY != 0.0:  # gravity along the link's j axis
+        A_eff -= -gX * np.sin(angle) + gY * np.cos(angle)
+    if p.model.equations == DOUBLE_COUNT or p.model.equations == PRINTED:
+        A_eff += omega * v_O1
+    stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
+    zeta = p.beam.damping_ratio
+    for n in range(N):
+        forcing = beam.rigid_load(A_eff, alpha, n + 1, L) + F[n] / p.basis.modal_mass
+        if stiffening:
+            forcing -= 2.0 * omega * omega * q[n]
+        out[N + n] = beam.modal_acceleration(q[n], q_dot[n], p.basis.omega_n[n], zeta, omega, forcing)
+        out[n] = q_dot[n]
+
+
+@kernel
+def rhs(t, y, out, p):
+    """``dy/dt`` of the modal ODE into ``out``."""
+    rhs_given(t, motion_at(t, p.motion), y, out, p)
+
+
+@jitable
+def thinnest_given(x_star, y, p):
+    """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides."""
+    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
+    return contact.thinnest_film_sides(y[:p.basis.modes], x0, p.film, p.pad, p.basis.rod_length, 0.0)
+
+
+@jitable
+def gap_given(t, kin, y, p):
+    """``(gap, rate)``: thinnest film above breakdown, ``xi_min - min_film`` [m], and its rate [m/s]."""
+    N = p.basis.modes
+    xi, x_c, at_edge, side = thinnest_given(kin[3], y, p)
+    return xi - p.contact.min_film, contact.gap_rate(y[:N], y[N:], x_c, at_edge, side, kin[4], p.basis.rod_length)
+
+
+@kernel
+def gap(t, y, p):
+    """The event: ``(gap [m], rate [m/s])`` of the thinnest film above breakdown."""
+    return gap_given(t, motion_at(t, p.motion), y, p)
+
+
+# --- parameters ---------------------------------------------------------------------------------------
+def _c(a):
+    return np.ascontiguousarray(a, dtype=np.float64).copy()
+
+
+def make_params(config: Config, table: MotionTable | None) -> Params:
+    """The :class:`Params` of a validated configuration (``table`` None: a placeholder motion)."""
+    b = config.beam
+    L = config.mechanism.rod_length
+    N = b.modes
+    omega_n = beam.natural_frequencies(N, L, b.youngs_modulus, b.second_moment, b.density, b.area)
+    basis = Basis(int(N), float(L), _c(omega_n), float(beam.modal_mass(b.density, b.area, L)))
+    pad = film.pad_tables(N, L, config.film)
+    if table is None:
+        table = SliderCrank(config.mechanism).table(config.collar.mass)
+    table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
+    return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
+                  kernel_view(config.collar), kernel_view(config.contact), kernel_view(config.model), basis, pad,
+                  table, NO_PHASE)
+
+
+# --- the model, from Python ------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Model:
-    """Everything the integrator and the event logic need, precomputed."""
+    """A configuration assembled for integration: parameters, motion, and the functions the integrators call.
 
-    config: Config
+    ``compiled`` says whether the kernels run compiled; ``backend_note`` why not, when the
+    configuration asked for ``"auto"`` and got the ``numpy`` backend.
+    """
+
+    config: object
     motion: object
-    omega_n: np.ndarray
-    modal_mass: float
+    params: Params
+    compiled: bool
+    backend_note: str = ""
+
+    @cached_property
+    def params_type(self):
+        """The Numba type of :attr:`params` (the same for every phase), computed once."""
+        import numba
+
+        return numba.typeof(self.params)
 
     @property
     def modes(self) -> int:
         return self.config.beam.modes
 
     @property
+    def omega_n(self) -> np.ndarray:
+        return self.params.basis.omega_n
+
+    @property
+    def modal_mass(self) -> float:
+        return self.params.basis.modal_mass
+
+    @property
     def sides(self) -> tuple:
         return (1, -1) if self.config.film.sides == 2 else (1,)
+
+    @property
+    def backend(self) -> str:
+        return "numba" if self.compiled else "numpy"
 
     def initial_state(self):
         """Zero initial conditions (the paper's)."""
         return np.zeros(2 * self.modes)
 
+    def with_phase(self, phase) -> Params:
+        """The parameters of a segment with the compliant contact ``phase`` ``(side, v_minus)`` or None."""
+        return self.params._replace(phase=NO_PHASE if phase is None else Phase(float(phase[0]), float(phase[1])))
+
     def gravity_j(self, t):
-        """Gravity along the link's ``j`` axis [m/s^2] at ``t``."""
+        """Gravity along the link's ``j`` axis at ``t`` [m/s^2]."""
         gX, gY = self.config.mechanism.gravity
-        if gX == 0.0 and gY == 0.0:
-            return 0.0
-        psi = self.motion.link_angle(t)  # link angle about +k from +X
-        return -gX * np.sin(psi) + gY * np.cos(psi)
+        angle = self.kinematics(t)[6]
+        return -gX * np.sin(angle) + gY * np.cos(angle)
 
-    def film_loads(self, t, y, kin=None):
-        """Modal film force [N] and resultant film force along +j [N]."""
-        cfg = self.config
-        fm = cfg.film
-        N = self.modes
-        if not fm.enabled:
-            return np.zeros(N), 0.0
-        kin = self.motion(t) if kin is None else kin
-        q, q_dot = y[:N], y[N:]
-        x0 = film.pad_start(float(kin.x_star), fm.pad_length, fm.pad_reference)
-        F, total = np.zeros(N), 0.0
-        for side in self.sides:
-            F_s, total_s, _ = film.modal_force(
-                side * q, side * q_dot, x0, float(kin.V_r), mu=fm.viscosity, clearance=fm.clearance,
-                pad_length=fm.pad_length, width=cfg.beam.width, rod_length=cfg.mechanism.rod_length,
-                squeeze=fm.model == "wedge+squeeze", nodes=fm.quadrature_nodes, cavitation=fm.cavitation,
-                p_cav=fm.cavitation_pressure - fm.ambient_pressure, grid_points=fm.grid_points)
-            F = F + side * F_s
-            total += side * total_s
-        return F, total
+    def kinematics(self, t):
+        """The tuple of :func:`~lubelink.kinematics.motion_at` at ``t`` [s]."""
+        if self.motion.table() is None:
+            return self.motion.kinematics(t)
+        return motion_at(float(t), self.params.motion)
 
-    def contact_force(self, t, y, phase: ContactPhase, kin=None):
-        """Modal force [N] and magnitude [N] of the compliant (Lankarani-Nikravesh) contact.
+    def functions(self):
+        """``(rhs, event)`` for the driver: kernels, or Python functions on the ``numpy`` backend."""
+        if self.compiled:
+            return rhs, gap
+        if self.motion.table() is not None:
+            return rhs.py_func, gap.py_func
+        kin = self.motion.kinematics
+        return (lambda t, y, out, p: rhs_given(t, kin(t), y, out, p),
+                lambda t, y, p: gap_given(t, kin(t), y, p))
 
-        ``F = K delta^n (1 + 3 (1 - e^2)/4 * delta_dot / v_minus)``, ``delta``
-        the penetration below ``min_film``, acting at the thinnest-film point
-        against the side's normal; never adhesive (``F >= 0``).
-        """
-        ct = self.config.contact
-        N = self.modes
-        L = self.config.mechanism.rod_length
-        side = phase.side
-        kin = self.motion(t) if kin is None else kin
-        xi, x_c, at_edge = self._thinnest(t, side * y[:N], kin)
-        delta = ct.min_film - xi
-        if delta <= 0.0:
-            return np.zeros(N), 0.0
-        V_c = float(kin.V_r) if at_edge else 0.0
-        delta_dot = contact.approach_velocity(side * y[:N], side * y[N:], x_c, V_c, L)
-        force = contact.lankarani_nikravesh(delta, delta_dot, phase.v_minus, ct.stiffness, ct.exponent,
-                                            ct.restitution)
-        return -side * beam.project_point_load(force, x_c, N, L), force
+    # conveniences for Python callers (tests, the paper's figures): one state at a time
+    def rhs(self, t, y, phase=None):
+        """``dy/dt`` at ``(t, y)`` [SI]."""
+        out = np.empty(2 * self.modes)
+        f = self.functions()[0]
+        f(float(t), np.ascontiguousarray(y, dtype=float), out, self.with_phase(phase))
+        return out
 
-    def rhs(self, t, y, phase: ContactPhase | None = None):
-        """``dy/dt`` of the modal ODE."""
-        cfg = self.config
-        N = self.modes
-        L = cfg.mechanism.rod_length
-        kin = self.motion(t)
-        F, _ = self.film_loads(t, y, kin)
-        if cfg.collar.mass > 0.0:
-            R = float(self.motion.joint_reaction(t, cfg.collar.mass))
-            F = F + beam.project_point_load(R, float(kin.x_star), N, L)
-        if phase is not None:
-            F = F + self.contact_force(t, y, phase, kin)[0]
-        A_eff = float(kin.A_O2) - self.gravity_j(t)
-        forcing = beam.rigid_forcing(A_eff, float(kin.alpha), N, L) + F / self.modal_mass
-        q_ddot = beam.modal_acceleration(y[:N], y[N:], self.omega_n, cfg.beam.damping_ratio,
-                                         float(kin.omega), forcing)
-        return np.concatenate([y[N:], q_ddot])
-
-    def _thinnest(self, t, q_side, kin=None):
-        fm = self.config.film
-        kin = self.motion(t) if kin is None else kin
-        x0 = film.pad_start(float(kin.x_star), fm.pad_length, fm.pad_reference)
-        return contact.thinnest_film(q_side, x0, fm.pad_length, fm.clearance, self.config.mechanism.rod_length)
+    def gap(self, t, y):
+        """Event function ``xi_min - min_film`` [m]."""
+        return float(self.functions()[1](float(t), np.ascontiguousarray(y, dtype=float), self.params)[0])
 
     def thinnest_film(self, t, y):
         """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides."""
-        q = y[: self.modes]
-        best = None
-        for side in self.sides:
-            xi, x_c, edge = self._thinnest(t, side * q)
-            if best is None or xi < best[0]:
-                best = (xi, x_c, edge, side)
-        return best
-
-    def gap(self, t, y):
-        """Event function: film thickness above breakdown, ``xi_min - min_film`` [m]."""
-        return self.thinnest_film(t, y)[0] - self.config.contact.min_film
+        xi, x_c, edge, side = thinnest_given(self.kinematics(t)[3], np.ascontiguousarray(y, dtype=float),
+                                             self.params)
+        return float(xi), float(x_c), bool(edge), int(side)
 
     def approach(self, t, y):
         """``(v, x_c, side)``: normal approach velocity at the thinnest film [m/s], positive closing."""
         N = self.modes
-        _, x_c, at_edge, side = self.thinnest_film(t, y)
-        V_c = float(self.motion(t).V_r) if at_edge else 0.0
-        v = contact.approach_velocity(side * y[:N], side * y[N:], x_c, V_c,
-                                      self.config.mechanism.rod_length)
-        return v, x_c, side
+        kin = self.kinematics(t)
+        _, x_c, edge, side = self.thinnest_film(t, y)
+        v = side * contact.approach_velocity(y[:N], y[N:], x_c, kin[4] if edge else 0.0,
+                                             self.config.mechanism.rod_length)
+        return float(v), x_c, side
 
     def impact(self, t, y):
-        """Apply the restitution law at ``t``.
-
-        Returns
-        -------
-        y_plus : ndarray
-            State after the impact.
-        x_c : float
-            Contact point [m].
-        v_minus : float
-            Approach velocity before the impact [m/s] (positive closing).
-        side : int
-            Film side of the contact.
-        """
+        """The restitution law at ``t``: ``(y_plus, x_c, v_minus, side)``."""
         N = self.modes
         v_minus, x_c, side = self.approach(t, y)
-        y_plus = y.copy()
+        y_plus = np.array(y, dtype=float)
         if v_minus > 0.0:
-            y_plus[N:] = side * contact.restitution_jump(side * y[N:], x_c, v_minus,
+            y_plus[N:] = side * contact.restitution_jump(side * y_plus[N:], x_c, v_minus,
                                                          self.config.contact.restitution,
                                                          self.config.mechanism.rod_length)
         return y_plus, x_c, v_minus, side
+
+    def film_loads(self, t, y):
+        """Modal film forces [N] and the resultant film force along +j [N]."""
+        N = self.modes
+        kin = self.kinematics(t)
+        F = np.zeros(N)
+        y = np.ascontiguousarray(y, dtype=float)
+        p = self.params
+        total = film.modal_film_force(y[:N], y[N:], kin[3], kin[4], p.film, p.beam.width, p.pad, p.basis.rod_length, F)
+        return F, float(total)
+
+    def contact_force(self, t, y, phase):
+        """Modal force [N] and magnitude [N] of the compliant contact in ``phase`` ``(side, v_minus)``."""
+        N = self.modes
+        kin = self.kinematics(t)
+        F = np.zeros(N)
+        p = self.params
+        x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
+        y = np.ascontiguousarray(y, dtype=float)
+        force = contact.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
+                                        p.basis.rod_length, float(phase[0]), float(phase[1]), F)
+        return F, float(force)
+
+
+def _backend(config, motion):
+    """``(compiled, note)`` for ``solver.backend``; raises :class:`BackendError` if ``"numba"`` cannot be had."""
+    wanted = config.solver.backend
+    if wanted == "numpy":
+        return False, ""
+    why = ""
+    if not _jit.ENABLED:
+        why = "Numba is not installed" if not _jit._WHY.startswith("LUBELINK") else "LUBELINK_DISABLE_JIT is set"
+    elif motion.table() is None:
+        why = "the motion is given as Python callables (use lubelink.kinematics.sampled_motion to compile it)"
+    elif config.solver.method in ("RK45", "Radau", "BDF", "LSODA"):  # (the loop in Python, the physics compiled)
+        return True, f"solver.method = {config.solver.method!r} steps in Python (SciPy) on the compiled right-hand side"
+    if not why:
+        return True, ""
+    if wanted == "numba":
+        raise BackendError(f"solver.backend = 'numba': not available, {why}; use solver.backend = 'auto' or 'numpy'")
+    return False, f"compiled path not used: {why}"
 
 
 def build_model(config: Config, motion=None) -> Model:
@@ -186,15 +330,34 @@ def build_model(config: Config, motion=None) -> Model:
     config : Config
         Validated parameters.
     motion : object, optional
-        A motion provider (see :mod:`lubelink.kinematics`); default: the
-        slider-crank of ``config.mechanism``.
+        A motion provider (see :mod:`lubelink.kinematics`); default: the slider-crank of
+        ``config.mechanism``.
+
+    Raises
+    ------
+    BackendError
+        ``solver.backend = "numba"`` for a configuration the compiled path cannot run.
     """
-    b = config.beam
-    L = config.mechanism.rod_length
-    omega_n = beam.natural_frequencies(b.modes, L, b.youngs_modulus, b.second_moment, b.density, b.area)
-    return Model(
-        config=config,
-        motion=SliderCrank(config.mechanism) if motion is None else motion,
-        omega_n=omega_n,
-        modal_mass=beam.modal_mass(b.density, b.area, L),
-    )
+    motion = SliderCrank(config.mechanism) if motion is None else motion
+    compiled, note = _backend(config, motion)
+    if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
+        raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "
+                           "slider-crank motion provides")
+    return Model(config, motion, make_params(config, motion.table(config.collar.mass)), compiled, note)
+
+
+def compile_failed(model: Model, exc: BaseException) -> Model:
+    """The ``numpy``-backend copy of ``model`` after a compile failure under ``backend = "auto"`` (warns)."""
+    message = f"lubelink: the compiled path failed ({type(exc).__name__}: {exc}); running on the numpy backend"
+    warnings.warn(message, RuntimeWarning, stacklevel=3)
+    log.warning(message)
+    return Model(model.config, model.motion, model.params, False, f"compile failed: {type(exc).__name__}")
+
+
+@kernel
+def thinnest_many(x_star, y, p):
+    """Thinnest film [m] (over the pad and the sides) of many samples: ``x_star`` shape ``(T,)``, ``y`` ``(T, 2N)``."""
+    out = np.empty(x_star.shape[0])
+    for i in range(x_star.shape[0]):
+        out[i] = thinnest_given(x_star[i], y[i], p)[0]
+    return out

@@ -1,15 +1,20 @@
 """Model parameters: frozen dataclasses in SI units.
 
-Every field is in SI. Values are validated once, at the boundary
-(:func:`lubelink.config.validate`), never inside numerical code. The field
-names are the TOML keys of the corresponding section; MODEL.md's glossary
-symbol is given in brackets after the unit.
+Every field is in SI. Values are validated once, at the boundary (:func:`lubelink.config.validate`),
+never inside numerical code. The field names are the TOML keys of the corresponding section; the
+glossary symbol of docs/model.md is given in brackets after the unit.
+
+Compiled code reads the same parameters as a *view*: a named tuple with the dataclass's field
+names, generated from the dataclass (:func:`kernel_view`), in which every choice (a string) is
+replaced by its index in the tuple of choices declared here, the one list the validation, the
+physics and the documentation share.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from collections import namedtuple
+from dataclasses import dataclass, field, fields, replace
 
 __all__ = [
     "Mechanism",
@@ -19,8 +24,23 @@ __all__ = [
     "Contact",
     "Solver",
     "Output",
+    "ModelOptions",
     "Config",
+    "CHOICES",
+    "kernel_view",
 ]
+
+#: The allowed values of every choice field, by ``section.key``; a choice's code in compiled code
+#: is its index here.
+CHOICES = {
+    "film.model": ("none", "wedge", "wedge+squeeze"),
+    "film.pad_reference": ("edge", "centre"),
+    "film.cavitation": ("none", "half-sommerfeld", "reynolds"),
+    "contact.law": ("none", "restitution", "compliant"),
+    "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
+    "solver.method": ("auto", "exponential", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
+    "solver.backend": ("auto", "numba", "numpy"),
+}
 
 
 @dataclass(frozen=True)
@@ -185,14 +205,32 @@ class Contact:
 
 
 @dataclass(frozen=True)
+class ModelOptions:
+    """Which equations are solved (D1).
+
+    Attributes
+    ----------
+    equations : str
+        ``"corrected"`` (lubelink's, the default), or one of the paper's printed forms, to see
+        what its errata change: ``"printed-omega2"`` (Eq. 18's stiffening ``+omega^2``),
+        ``"double-count"`` (Eq. 18's ``a_O2 + omega v_O1`` with Section 6's true ``a_O2``),
+        ``"printed"`` (both) or ``"printed-film-sign"`` (Eq. 20's film force ``+B p_g``).
+    """
+
+    equations: str = "corrected"
+
+
+@dataclass(frozen=True)
 class Solver:
     """Time integration (D9).
 
     Attributes
     ----------
     method : str
-        ``"DOP853"``, ``"RK45"``, ``"Radau"``, ``"LSODA"`` or
-        ``"bulirsch-stoer"``.
+        ``"auto"`` (``"DOP853"`` for one mode, ``"exponential"`` for more: the faster one at
+        the default tolerance, see benchmarks/README.md), ``"exponential"`` (exponential
+        Runge-Kutta, exact on the modal oscillators), ``"DOP853"``, ``"bulirsch-stoer"`` (the
+        paper's), or SciPy's ``"RK45"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``.
     rtol, atol : float
         Relative [-] and absolute [m, m/s] tolerances on ``q``, ``q_dot``.
     t_end : float
@@ -208,9 +246,9 @@ class Solver:
         or ``"numpy"`` (the reference right-hand side).
     """
 
-    method: str = "DOP853"
+    method: str = "auto"
     rtol: float = 1e-8
-    atol: float = 1e-12
+    atol: float = 1e-9
     t_end: float = 2.0
     output_step: float = 1e-3
     max_step: float = math.inf
@@ -243,6 +281,7 @@ class Config:
     film: Film = field(default_factory=Film)
     collar: Collar = field(default_factory=Collar)
     contact: Contact = field(default_factory=Contact)
+    model: ModelOptions = field(default_factory=ModelOptions)
     solver: Solver = field(default_factory=Solver)
     output: Output = field(default_factory=Output)
 
@@ -257,6 +296,47 @@ SECTION_TYPES: dict[str, type] = {
     "film": Film,
     "collar": Collar,
     "contact": Contact,
+    "model": ModelOptions,
     "solver": Solver,
     "output": Output,
 }
+
+
+def _view_type(cls):
+    view = namedtuple(f"{cls.__name__}View", [f.name for f in fields(cls)])
+    view.__module__ = __name__
+    return view
+
+
+MechanismView = _view_type(Mechanism)
+BeamView = _view_type(Beam)
+FilmView = _view_type(Film)
+CollarView = _view_type(Collar)
+ContactView = _view_type(Contact)
+ModelOptionsView = _view_type(ModelOptions)
+_VIEWS = {Mechanism: ("mechanism", MechanismView), Beam: ("beam", BeamView), Film: ("film", FilmView),
+          Collar: ("collar", CollarView), Contact: ("contact", ContactView),
+          ModelOptions: ("model", ModelOptionsView)}
+
+
+def kernel_view(section):
+    """The compiled code's view of a parameter section: a named tuple with the same field names.
+
+    Floats stay floats and integers integers (so every configuration gives compiled code the same
+    types); a choice becomes its index in :data:`CHOICES`; a pair stays a tuple of floats.
+    """
+    name, view = _VIEWS[type(section)]
+    values = []
+    for f in fields(section):
+        v = getattr(section, f.name)
+        key = f"{name}.{f.name}"
+        if key in CHOICES:
+            v = CHOICES[key].index(v)
+        elif isinstance(v, tuple):
+            v = tuple(float(c) for c in v)
+        elif isinstance(v, bool) or f.type in ("int", int):
+            v = int(v)
+        else:
+            v = float(v)
+        values.append(v)
+    return view(*values)

@@ -1,19 +1,61 @@
-"""Results as an :class:`xarray.Dataset`: assembly, NetCDF save and load.
+"""Results as an :class:`xarray.Dataset`: the variable registry, assembly, NetCDF save and load.
 
-Every variable carries ``units`` and ``long_name``; the dataset's attrs hold
-the run status, solver statistics, versions and the full configuration as
-TOML text, which is enough to re-run it (:func:`config_of`).
+Every variable is declared once in :data:`VARIABLES` (dimensions, units, long name): the Dataset,
+the sweep store and the plots read it there. :func:`to_dataset` computes the film force,
+pressure and thinnest film of the samples with the functions the right-hand side and the gap
+used, batched in compiled code. The dataset's attrs hold the run status, solver statistics,
+versions and the full configuration as TOML text, enough to re-run it (:func:`config_of`).
 """
 
 from __future__ import annotations
 
+import platform
+import time
+from functools import lru_cache
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 from ._files import atomic_path
 
-__all__ = ["FORMAT_VERSION", "save", "load", "config_of", "atomic_path", "ResultsFileError"]
+__all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "to_dataset", "save", "load", "config_of", "atomic_path",
+           "ResultsFileError", "versions"]
+
+
+class Variable(NamedTuple):
+    """A result variable: dimensions, units (UDUNITS) and long name."""
+
+    dims: tuple
+    units: str
+    long_name: str
+
+
+#: Every variable and coordinate of a results Dataset.
+VARIABLES = {
+    "time": Variable(("time",), "s", "time"),
+    "x": Variable(("x",), "m", "position along the link from the crank pin O"),
+    "mode": Variable(("mode",), "1", "mode number"),
+    "X": Variable(("X",), "m", "position along the pad from its start"),
+    "impact": Variable(("impact",), "1", "impact number"),
+    "q": Variable(("time", "mode"), "m", "modal coordinate"),
+    "q_dot": Variable(("time", "mode"), "m s-1", "modal velocity"),
+    "u2": Variable(("time", "x"), "m", "transverse deflection"),
+    "u2_mid": Variable(("time",), "m", "midpoint deflection"),
+    "x_star": Variable(("time",), "m", "collar position along the link"),
+    "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
+    "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
+    "film_min": Variable(("time",), "m", "thinnest film on the pad"),
+    "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's)"),
+    "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
+    "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
+    "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
+    "impact_position": Variable(("impact",), "m", "contact point on the link"),
+    "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
+    "impact_velocity_after": Variable(("impact",), "m s-1",
+                                      "normal approach velocity after impact (negative opening)"),
+    "impact_side": Variable(("impact",), "1", "film side of the contact"),
+}
 
 #: Version of the results layout; :func:`load` refuses other major versions.
 FORMAT_VERSION = "1.0"
@@ -26,6 +68,104 @@ class ResultsFileError(ValueError):
 def variable(dims, data, units, long_name, **attrs):
     """``(dims, data, attrs)`` tuple for :class:`xarray.Dataset` construction."""
     return dims, np.asarray(data), {"units": units, "long_name": long_name, **attrs}
+
+
+def _entry(name, data, **attrs):
+    v = VARIABLES[name]
+    return variable(v.dims, data, v.units, v.long_name, **attrs)
+
+
+@lru_cache(maxsize=1)
+def versions():
+    """``(lubelink version, the versions string of the attrs)``, looked up once per process."""
+    import importlib.metadata
+
+    def version(package):
+        try:
+            return importlib.metadata.version(package)
+        except importlib.metadata.PackageNotFoundError:
+            return "unknown"
+
+    libs = ", ".join(f"{name} {version(name)}" for name in ("numpy", "scipy", "numba", "xarray", "netCDF4"))
+    return version("lubelink"), f"python {platform.python_version()}, {libs}"
+
+
+def _select(kernel, compiled):
+    return kernel if compiled else kernel.py_func
+
+
+def to_dataset(result):
+    """Sample a :class:`~lubelink.simulate.Run` into the results :class:`xarray.Dataset`."""
+    import xarray as xr
+
+    from . import beam, film
+    from .config import to_toml
+    from .model import thinnest_many
+
+    model = result.model
+    cfg = model.config
+    p = model.params
+    L = cfg.mechanism.rod_length
+    N = model.modes
+    t = np.ascontiguousarray(result.t)
+    y = np.ascontiguousarray(result.y)
+    q, q_dot = np.ascontiguousarray(y[:, :N]), np.ascontiguousarray(y[:, N:])
+    x = np.linspace(0.0, L, cfg.output.x_points)
+    kin = model.motion(t)
+    x_star = np.ascontiguousarray(np.broadcast_to(kin.x_star, t.shape), dtype=float)
+    V_r = np.ascontiguousarray(np.broadcast_to(kin.V_r, t.shape), dtype=float)
+    compiled = model.compiled
+    data = {
+        "q": _entry("q", q),
+        "q_dot": _entry("q_dot", q_dot),
+        "u2": _entry("u2", beam.deflection(q, x, L)),
+        "u2_mid": _entry("u2_mid", beam.deflection(q, np.array([0.5 * L]), L)[:, 0]),
+        "x_star": _entry("x_star", x_star),
+        "V_r": _entry("V_r", V_r),
+        "omega_n": _entry("omega_n", model.omega_n),
+    }
+    coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
+    fm = cfg.film
+    if fm.enabled or cfg.contact.law != "none":
+        data["film_min"] = _entry("film_min", _select(thinnest_many, compiled)(x_star, y, p))
+    if fm.enabled:
+        X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
+        coords["X"] = _entry("X", X)
+        tables = film.pressure_points(X, N, L, 8, fm.grid_points if fm.cavitation == "reynolds" else 0)
+        pressure = _select(film.pad_pressure_many, compiled)
+        for side, name in zip(model.sides, ("pressure", "pressure_lower")):
+            data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
+        force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
+        data["film_force"] = _entry("film_force", force)
+    imp = result.impacts
+    coords["impact"] = _entry("impact", np.arange(len(imp)))
+    data["impact_time"] = _entry("impact_time", [i[0] for i in imp])
+    data["impact_position"] = _entry("impact_position", [i[1] for i in imp])
+    data["impact_velocity"] = _entry("impact_velocity", [i[2] for i in imp])
+    data["impact_velocity_after"] = _entry("impact_velocity_after", [i[3] for i in imp])
+    data["impact_side"] = _entry("impact_side", np.array([i[4] for i in imp], dtype=int))
+    version, libs = versions()
+    attrs = {
+        "title": "lubelink simulation of a flexible link with a lubricated prismatic joint",
+        "references": "Marghitu & Guran, The Dynamics of a Flexible Beam With a Lubricated Prismatic Kinematic "
+                      "Pair, J. Vibration and Acoustics; corrected as lubelink's docs/model.md describes",
+        "lubelink_version": version,
+        "lubelink_format": FORMAT_VERSION,
+        "versions": libs,
+        "config": to_toml(cfg),
+        "status": result.status,
+        "complete": int(result.complete),
+        "message": result.message,
+        "solver_method": result.method or cfg.solver.method,
+        "backend": model.backend,
+        "backend_note": model.backend_note,
+        "nfev": result.nfev,
+        "nsteps": result.nsteps,
+        "impact_count": len(imp),
+        "wall_time": result.wall_time,
+        "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def save(dataset, path, overwrite=False):

@@ -4,11 +4,13 @@ Why this module exists
 ----------------------
 No maintained Python library offers a Bulirsch-Stoer integrator: SciPy's
 ``solve_ivp`` has explicit Runge-Kutta (RK23, RK45, DOP853), Radau, BDF and
-LSODA only. :class:`BulirschStoer` is therefore written by hand, as a
-:class:`scipy.integrate.OdeSolver` subclass, so that it plugs into
-``scipy.integrate.solve_ivp(..., method=BulirschStoer)`` with events,
-``t_eval`` and dense output like the built-in methods. It knows nothing of the
-problem it integrates.
+LSODA only. It is therefore written here, once: the kernels :func:`init`,
+:func:`step` and :func:`dense` on the shared integration state
+(:mod:`._layout`) are what the compiled driver runs, and
+:class:`BulirschStoer`, a :class:`scipy.integrate.OdeSolver` for
+``solve_ivp(..., method=BulirschStoer)``, is a thin wrapper that runs the same
+source as Python on the user's function. It knows nothing of the problem it
+integrates.
 
 Method
 ------
@@ -75,16 +77,19 @@ from __future__ import annotations
 
 import math
 import warnings
-from functools import lru_cache
 
 import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
-__all__ = ["BulirschStoer", "GBSDenseOutput", "step_number_sequence"]
+from .._jit import jitable, kernel
+from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TEND, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD,
+                      R_METHOD, R_RTOL, R_Y, R_YOLD, S_DENSE, S_FAIL, S_METHOD, S_NFEV, S_NREJ)
+from .control import EPS, TOO_SMALL_STEP, initial_step
 
-EPS = np.finfo(float).eps
+__all__ = ["BulirschStoer", "GBSDenseOutput", "step_number_sequence", "init", "step", "dense", "rows", "setup"]
 
 DEFAULT_MAX_ORDER = 9  # columns of the tableau, as ODEX's default KM = 9
+KMAX = 12  # the most columns any configuration may use (the tables are built for it)
 
 # ODEX defaults (Hairer-Norsett-Wanner II.9).
 _FAC1 = 0.02  # H_j / H is kept within [fac1**e / fac2, fac1**-e], e = 1/(2j-1)
@@ -98,33 +103,17 @@ _STAB_COLUMNS = 2  # the stability check runs in the first two sequences
 _MU_DIFF = 4  # interpolant uses midpoint derivatives up to mu = 2k - _MU_DIFF + 1
 _DENSE_REJECT = 10.0  # reject a step whose interpolation error exceeds this
 
-TOO_SMALL_STEP = "Required step size is less than spacing between numbers."
-
-
-class _Diverged(Exception):
-    """The extrapolation tableau diverges or the midpoint rule is unstable."""
-
 
 def step_number_sequence(max_order):
-    """Substep numbers ``n_j = 4j - 2`` for ``j = 1 ... max_order``.
-
-    Parameters
-    ----------
-    max_order : int
-        Number of extrapolation columns.
-
-    Returns
-    -------
-    ndarray of int
-    """
+    """Substep numbers ``n_j = 4j - 2`` for ``j = 1 ... max_order``."""
     return 4 * np.arange(1, max_order + 1) - 2
 
 
 def _extrapolation_weights(n):
     """Weights ``c`` such that ``sum_j c_j T_j`` is the value at ``h = 0``.
 
-    ``T_j`` are samples at ``h_j = H / n_j`` of a polynomial in ``h**2``;
-    ``c_j`` is the Lagrange basis polynomial ``L_j(0)`` in ``x = h**2``.
+    ``T_j`` are samples at ``h_j = H / n_j`` of a polynomial in ``h**2``; ``c_j`` is the Lagrange
+    basis polynomial ``L_j(0)`` in ``x = h**2``.
     """
     n2 = np.asarray(n, dtype=float) ** 2
     weights = np.empty(n2.size)
@@ -137,9 +126,8 @@ def _extrapolation_weights(n):
 def _difference_operator(n, rows):
     """Rows ``p = 0 ... rows-1``: ``(n/2)**p * delta**p f`` at the midpoint ``n/2``.
 
-    ``delta g_i = g_(i+1) - g_(i-1)`` (stride two, so that only grid points of
-    one parity enter). Times ``H`` this approximates ``H^(p+1) y^(p+1)`` at the
-    midpoint of the step.
+    ``delta g_i = g_(i+1) - g_(i-1)`` (stride two, so that only grid points of one parity enter).
+    Times ``H`` this approximates ``H^(p+1) y^(p+1)`` at the midpoint of the step.
     """
     m = n // 2
     op = np.zeros((rows, n + 1))
@@ -156,12 +144,7 @@ def _hermite_inverse(mu):
     Rows: value at ``u = -1``, value at ``u = +1``, derivative at ``-1``, at ``+1``.
     """
     powers = mu + 1 + np.arange(4)
-    matrix = np.array([
-        (-1.0) ** powers,
-        np.ones(4),
-        powers * (-1.0) ** (powers - 1),
-        powers.astype(float),
-    ])
+    matrix = np.array([(-1.0) ** powers, np.ones(4), powers * (-1.0) ** (powers - 1), powers.astype(float)])
     return np.linalg.inv(matrix)
 
 
@@ -173,38 +156,410 @@ def _max_error_shape(mu):
     return v ** (mu / 2.0) * (1.0 - v) ** 2
 
 
-class _Tables:
-    """Constants of the method for a given maximal number of columns."""
-
-    def __init__(self, max_order):
-        self.nseq = step_number_sequence(max_order)
-        n_mu = 2 * max_order + 1
-        # work A_j (1-based, index 0 unused): f0 plus n_i evaluations per sequence i <= j
-        self.work = np.concatenate(([0.0], 1.0 + np.cumsum(self.nseq)))
-        self.weights = {
-            (a, b): _extrapolation_weights(self.nseq[a:b])
-            for b in range(1, max_order + 1) for a in range(b)
-        }
-        self.diff_ops = [_difference_operator(int(n), 2 * (j + 1)) for j, n in enumerate(self.nseq)]
-        self.hermite_inv = [_hermite_inverse(mu) for mu in range(n_mu)]
-        self.taylor = np.array([1.0 / (math.factorial(i) * 2.0 ** i) for i in range(n_mu)])
-        self.error_shape = np.array([_max_error_shape(mu) for mu in range(n_mu)])
-
-
-@lru_cache(maxsize=None)
-def _tables(max_order):
-    return _Tables(max_order)
+def _method_tables():
+    """The constants of the method for up to :data:`KMAX` columns, as arrays (frozen into compiled code)."""
+    nseq = step_number_sequence(KMAX).astype(np.int64)
+    seq_off = np.concatenate(([0], np.cumsum(nseq + 1)[:-1])).astype(np.int64)
+    work = np.concatenate(([0.0], 1.0 + np.cumsum(nseq)))  # A_j, 1-based: f0 plus n_i per sequence i <= j
+    weights = np.zeros((KMAX, KMAX + 1, KMAX))  # weights[a, b, :b - a]: extrapolation over sequences a..b-1
+    for b in range(1, KMAX + 1):
+        for a in range(b):
+            weights[a, b, :b - a] = _extrapolation_weights(nseq[a:b])
+    diff = np.zeros((KMAX, 2 * KMAX, int(nseq[-1]) + 1))
+    for j, n in enumerate(nseq):
+        op = _difference_operator(int(n), 2 * (j + 1))
+        diff[j, :op.shape[0], :op.shape[1]] = op
+    n_mu = 2 * KMAX + 1
+    hermite = np.array([_hermite_inverse(mu) for mu in range(n_mu)])
+    taylor = np.array([1.0 / (math.factorial(i) * 2.0 ** i) for i in range(n_mu)])
+    eshape = np.array([_max_error_shape(mu) for mu in range(n_mu)])
+    return nseq, seq_off, work, weights, diff, hermite, taylor, eshape
 
 
-def _rms(x):
-    return np.linalg.norm(x) / math.sqrt(x.size)
+_NSEQ, _SEQ_OFF, _WORK, _WEIGHTS, _DIFF, _HERMITE, _TAYLOR, _ESHAPE = _method_tables()
+
+# rows of W
+R_YNEW = R_METHOD
+R_FNEW = R_YNEW + 1
+R_YA = R_FNEW + 1  # midpoint rule: previous and current substep values
+R_YB = R_YA + 1
+R_TMP = R_YB + 1
+R_STAB = R_TMP + 1  # atol + rtol |y| for the stability check
+R_T1 = R_STAB + 1  # T_j1, KMAX rows
+R_YMID = R_T1 + KMAX  # midpoint values, KMAX rows
+R_COEF = R_YMID + KMAX  # dense output coefficients, 2 KMAX + 5 rows
+R_STORE = R_COEF + 2 * KMAX + 5  # f values of the midpoint sequences
+# slots of fst and ist
+F_ERROLD = F_METHOD
+F_HDENSE = F_METHOD + 1
+F_HH = F_METHOD + 2  # step proposed by column j (1-based), KMAX + 2 entries
+F_WW = F_HH + KMAX + 2  # work per unit step of column j
+FLOATS = F_WW + KMAX + 2
+S_K, S_KC, S_MU, S_NACC, S_MAXORDER, S_FIXED, S_ADAPTIVE, S_DENSECONTROL = range(S_METHOD, S_METHOD + 8)
+INTS = S_METHOD + 8
 
 
+def rows(n):
+    """Rows of ``W`` this method uses."""
+    return R_STORE + int(np.sum(_NSEQ + 1))
+
+
+def setup(W, fst, ist, options):
+    """The method's options: ``max_order`` (3-12), ``fixed_order``, ``adaptive``, ``dense_error_control``, ``first_step``."""
+    ist[S_MAXORDER] = options.get("max_order", DEFAULT_MAX_ORDER)
+    ist[S_FIXED] = options.get("fixed_order") or 0
+    ist[S_ADAPTIVE] = int(options.get("adaptive", True))
+    ist[S_DENSECONTROL] = int(options.get("dense_error_control", True) and options.get("adaptive", True))
+    if options.get("first_step") is not None:
+        fst[F_H] = options["first_step"]
+
+
+# --- one column of the tableau ---------------------------------------------------------------------
+@jitable
+def _column(col, rhs, p, t, h, W, fst, ist, checks):
+    """Column ``col`` (1-based): ``(err, diverged)``; ``err < 0`` for column 1.
+
+    Gragg's midpoint rule with ``n_j`` substeps (``j = col - 1``; ODEX's stability check on the
+    first substep of the first two sequences), then Aitken-Neville extrapolation to ``T_jj`` in
+    ``W[R_YNEW]``, its error estimate, the step it proposes ``H_j`` and the work per unit step
+    ``W_j``.
+    """
+    n = W.shape[1]
+    j = col - 1
+    nj = _NSEQ[j]
+    hj = h / nj
+    off = R_STORE + _SEQ_OFF[j]
+    for m in range(n):
+        W[off, m] = W[R_F, m]
+        W[R_YA, m] = W[R_Y, m]
+        W[R_YB, m] = W[R_F, m] * hj + W[R_Y, m]
+    a_row, b_row = R_YA, R_YB  # previous and current substep values
+    for i in range(1, nj):
+        if 2 * i == nj:
+            for m in range(n):
+                W[R_YMID + j, m] = W[b_row, m]
+        rhs(t + i * hj, W[b_row], W[off + i], p)
+        ist[S_NFEV] += 1
+        if checks and i == 1 and col <= _STAB_COLUMNS:
+            base = 0.0
+            change = 0.0
+            for m in range(n):
+                base += abs(W[R_F, m] / W[R_STAB, m]) ** 2
+                change += abs((W[off + 1, m] - W[R_F, m]) / W[R_STAB, m]) ** 2
+            if change / n > 4.0 * max(base / n, EPS) or not np.isfinite(change):
+                return 0.0, True
+        for m in range(n):
+            W[a_row, m] += W[off + i, m] * (2.0 * hj)
+        a_row, b_row = b_row, a_row
+    rhs(t + h, W[b_row], W[off + nj], p)
+    ist[S_NFEV] += 1
+    for m in range(n):
+        W[R_T1 + j, m] = ((W[off + nj, m] * hj + W[a_row, m]) + W[b_row, m]) * 0.5
+        W[R_YNEW, m] = 0.0
+        W[R_TMP, m] = 0.0
+    for i in range(col):
+        w0 = _WEIGHTS[0, col, i]
+        for m in range(n):
+            W[R_YNEW, m] += w0 * W[R_T1 + i, m]
+    if col == 1:
+        return -1.0, False
+    for i in range(1, col):  # T_j,j-1 for the error estimate
+        w1 = _WEIGHTS[1, col, i - 1]
+        for m in range(n):
+            W[R_TMP, m] += w1 * W[R_T1 + i, m]
+    acc = 0.0
+    for m in range(n):
+        sc = W[R_ATOL, m].real + W[R_RTOL, m].real * max(abs(W[R_Y, m]), abs(W[R_YNEW, m]))
+        acc += abs((W[R_YNEW, m] - W[R_TMP, m]) / sc) ** 2
+    err = math.sqrt(acc / n)
+    if not np.isfinite(err):  # NaN or infinity in the tableau: shrink, and say so if it underflows
+        ist[S_FAIL] = FAIL_RHS
+        return err, True
+    if checks:
+        if not err * EPS < 1.0 or (col > 2 and err >= fst[F_ERROLD]):
+            return err, True
+        fst[F_ERROLD] = max(4.0 * err, 1.0)
+    expo = 1.0 / (2 * col - 1)
+    facmin = _FAC1**expo
+    fac = min(_FAC2 / facmin, max(facmin, (err / _SAFE1) ** expo / _SAFE2))
+    fst[F_HH + col] = min(abs(h) / fac, fst[F_MAXSTEP])
+    fst[F_WW + col] = _WORK[col] / fst[F_HH + col]
+    return err, False
+
+
+@jitable
+def _attempt(rhs, p, t, h, k, full, reject, W, fst, ist):
+    """Try a step of signed size ``h`` aiming at ``k`` columns: ``(accepted, kc, diverged)``.
+
+    ``full`` computes columns 1 ... k and accepts at the first converged one (ODEX's first and
+    last step; always with a fixed order, which accepts at column k only); otherwise the
+    convergence monitor over the window ``k - 1, k, k + 1`` decides.
+    """
+    n = W.shape[1]
+    for m in range(n):
+        W[R_STAB, m] = W[R_ATOL, m].real + W[R_RTOL, m].real * abs(W[R_Y, m])
+    fixed = ist[S_FIXED] != 0
+    if full:
+        err = 0.0
+        for col in range(1, k + 1):
+            err, diverged = _column(col, rhs, p, t, h, W, fst, ist, True)
+            if diverged:
+                return False, col, True
+            if col > 1 and err <= 1.0 and not fixed:
+                return True, col, False
+        return err <= 1.0, k, False
+    err = 0.0
+    for col in range(1, k):
+        err, diverged = _column(col, rhs, p, t, h, W, fst, ist, True)
+        if diverged:
+            return False, col, True
+    if k > 2 and not reject:
+        if err <= 1.0:
+            return True, k - 1, False
+        if err > (_NSEQ[k] * _NSEQ[k - 1] / _NSEQ[0] ** 2) ** 2:
+            return False, k - 1, False
+    err, diverged = _column(k, rhs, p, t, h, W, fst, ist, True)
+    if diverged:
+        return False, k, True
+    if err <= 1.0:
+        return True, k, False
+    if err > (_NSEQ[k] / _NSEQ[0]) ** 2:
+        return False, k, False
+    err, diverged = _column(k + 1, rhs, p, t, h, W, fst, ist, True)
+    if diverged:
+        return False, k + 1, True
+    return err <= 1.0, k + 1, False
+
+
+@jitable
+def _order_after_rejection(k, kc, fst, ist):
+    if ist[S_FIXED] != 0:
+        return k
+    k = min(k, kc, ist[S_MAXORDER] - 1)
+    if k > 2 and fst[F_WW + k - 1] < fst[F_WW + k] * _FAC3:
+        k -= 1
+    return k
+
+
+@jitable
+def _next_order_and_step(kc, k, h_abs, reject, fst, ist):
+    """ODEX's choice of columns and step size after an accepted step."""
+    if ist[S_FIXED] != 0:
+        return k, (min(h_abs, fst[F_HH + k]) if reject else fst[F_HH + k])
+    top = ist[S_MAXORDER] - 1
+    ww = F_WW
+    if kc == 2:
+        kopt = 2 if reject else min(3, top)
+    elif kc <= k:
+        kopt = kc
+        if fst[ww + kc - 1] < fst[ww + kc] * _FAC3:
+            kopt = kc - 1
+        if fst[ww + kc] < fst[ww + kc - 1] * _FAC4:
+            kopt = min(kc + 1, top)
+    else:
+        kopt = kc - 1
+        if kc > 3 and fst[ww + kc - 2] < fst[ww + kc - 1] * _FAC3:
+            kopt = kc - 2
+        if fst[ww + kc] < fst[ww + kopt] * _FAC4:
+            kopt = min(kc, top)
+    if reject:
+        kopt = min(kopt, kc)
+        return kopt, min(h_abs, fst[F_HH + kopt])
+    if kopt <= kc:
+        return kopt, fst[F_HH + kopt]
+    if kc < k and fst[ww + kc] < fst[ww + kc - 1] * _FAC4:
+        return kopt, fst[F_HH + kc] * _WORK[kopt + 1] / _WORK[kc]
+    return kopt, fst[F_HH + kc] * _WORK[kopt] / _WORK[kc]
+
+
+# --- dense output ----------------------------------------------------------------------------------
+@jitable
+def _coefficients(W, ist, r_y0, r_y1, r_f0, r_f1, h, kc):
+    """Dense-output coefficients of a step of size ``h`` with ``kc`` columns into ``W[R_COEF:]``; ``(errint, mu)``.
+
+    ``r_y0``, ``r_y1``, ``r_f0``, ``r_f1``: the rows of ``W`` holding ``y`` and ``f`` at both ends.
+    The coefficients are in powers of ``u = 2 (t - t_old) / H - 1``.
+
+    The polynomial matches ``y`` and ``H f`` at ``u = -1, 1`` and, as coefficient of ``u^kappa``,
+    ``d[kappa] / (kappa! 2^kappa)`` with ``d[kappa] ~ H^kappa y^(kappa)(t_mid)``, ``kappa <= mu``:
+    the extrapolated midpoint value and extrapolated central differences of the ``f`` values
+    (HNW II.9). The estimate is the largest scaled difference to the polynomial with ``mu - 1``,
+    ``c u^mu (1 - u^2)^2``.
+    """
+    n = W.shape[1]
+    mu = max(2 * kc - _MU_DIFF + 1, 0)
+    ist[S_MU] = mu
+    for kappa in range(mu + 1):
+        for m in range(n):
+            W[R_COEF + kappa, m] = 0.0
+    for j in range(kc):
+        w = _WEIGHTS[0, kc, j] * _TAYLOR[0]
+        for m in range(n):
+            W[R_COEF, m] += w * W[R_YMID + j, m]
+    for kappa in range(1, mu + 1):
+        j0 = (kappa + 1) // 2 - 1
+        r = kappa - 1
+        for j in range(j0, kc):
+            mid = _NSEQ[j] // 2
+            off = R_STORE + _SEQ_OFF[j]
+            wj = _WEIGHTS[j0, kc, j - j0] * h * _TAYLOR[kappa]
+            for i in range(mid - r, mid + r + 1, 2):
+                c = _DIFF[j, r, i] * wj
+                for m in range(n):
+                    W[R_COEF + kappa, m] += c * W[off + i, m]
+    hinv = _HERMITE[mu]
+    errint = 0.0
+    for m in range(n):
+        r0 = W[r_y0, m]
+        r1 = W[r_y1, m]
+        r2 = 0.5 * h * W[r_f0, m]
+        r3 = 0.5 * h * W[r_f1, m]
+        for kk in range(mu + 1):
+            c = W[R_COEF + kk, m]
+            sg = 1.0 if kk % 2 == 0 else -1.0
+            r0 -= sg * c
+            r1 -= c
+            r2 -= (kk * -sg) * c
+            r3 -= kk * c
+        for row in range(4):
+            W[R_COEF + mu + 1 + row, m] = hinv[row, 0] * r0 + hinv[row, 1] * r1 + hinv[row, 2] * r2 + hinv[row, 3] * r3
+        if mu > 0:
+            top = W[R_COEF + mu, m]
+            sgm = 1.0 if mu % 2 == 0 else -1.0
+            hl = _HERMITE[mu - 1]
+            c = top - (hl[0, 0] * (r0 + sgm * top) + hl[0, 1] * (r1 + top) + hl[0, 2] * (r2 - mu * sgm * top)
+                       + hl[0, 3] * (r3 + mu * top))
+            sc = W[R_ATOL, m].real + W[R_RTOL, m].real * max(abs(W[r_y0, m]), abs(W[r_y1, m]))
+            errint += abs(c / sc) ** 2
+    ist[S_DENSE] = 1
+    if mu == 0:
+        return 0.0, mu
+    return math.sqrt(errint / n) * _ESHAPE[mu], mu
+
+
+# --- the kernels -----------------------------------------------------------------------------------------
+@kernel
+def init(rhs, p, W, fst, ist):
+    """``f(t0, y0)``, ODEX's first number of columns ``k ~ 0.6 (-log10 rtol) + 1.5`` and the starting step."""
+    n = W.shape[1]
+    rhs(fst[F_T], W[R_Y], W[R_F], p)
+    ist[S_NFEV] += 1
+    rtol = W[R_RTOL, 0].real
+    for m in range(n):
+        rtol = min(rtol, W[R_RTOL, m].real)
+    if ist[S_FIXED] != 0:
+        ist[S_K] = ist[S_FIXED]
+    else:
+        ist[S_K] = max(2, min(ist[S_MAXORDER] - 1, int(-math.log10(rtol + 1e-40) * 0.6 + 1.5)))
+    ist[S_KC] = ist[S_K]
+    fst[F_HDENSE] = np.inf
+    if fst[F_H] == 0.0:
+        fst[F_H] = initial_step(rhs, p, W, fst, ist, 2 * ist[S_K], W[R_TMP], W[R_FNEW])
+
+
+@jitable
+def _accept(t, t_new, kc, W, fst, ist):
+    n = W.shape[1]
+    for m in range(n):
+        W[R_YOLD, m] = W[R_Y, m]
+        W[R_FOLD, m] = W[R_F, m]
+        W[R_Y, m] = W[R_YNEW, m]
+        W[R_F, m] = W[R_FNEW, m]
+    fst[F_TOLD] = t
+    fst[F_HSTEP] = t_new - t
+    fst[F_T] = t_new
+    ist[S_KC] = kc
+    ist[S_NACC] += 1
+
+
+@kernel
+def step(rhs, p, W, fst, ist):
+    """One accepted GBS step; False if the step size underflows."""
+    t = fst[F_T]
+    direction = fst[F_DIR]
+    h_abs = fst[F_H]
+    k = ist[S_K]
+    remaining = abs(fst[F_TEND] - t)
+    ist[S_DENSE] = 0
+    if ist[S_ADAPTIVE] == 0:  # fixed steps, fixed order, no error control
+        last = 1.01 * h_abs >= remaining
+        h = direction * (remaining if last else h_abs)
+        for col in range(1, k + 1):
+            _column(col, rhs, p, t, h, W, fst, ist, False)
+        t_new = fst[F_TEND] if last else t + h
+        rhs(t_new, W[R_YNEW], W[R_FNEW], p)
+        ist[S_NFEV] += 1
+        _accept(t, t_new, k, W, fst, ist)
+        return True
+    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    reject = False
+    restart = True
+    while True:
+        if restart:
+            h_abs = min(h_abs, fst[F_MAXSTEP], fst[F_HDENSE])
+        last = 1.01 * h_abs >= remaining
+        if last:
+            h_abs = remaining
+        if h_abs < min_step:
+            return False
+        full = ist[S_FIXED] != 0 or (restart and (ist[S_NACC] == 0 or last))
+        h = direction * h_abs
+        accepted, kc, diverged = _attempt(rhs, p, t, h, k, full, reject, W, fst, ist)
+        if diverged:
+            ist[S_NREJ] += 1
+            h_abs *= _SAFE3
+            reject = True
+            restart = True
+            continue
+        if not accepted:
+            ist[S_NREJ] += 1
+            k = _order_after_rejection(k, kc, fst, ist)
+            h_abs = fst[F_HH + k]
+            reject = True
+            restart = False
+            continue
+        t_new = fst[F_TEND] if last else t + h
+        rhs(t_new, W[R_YNEW], W[R_FNEW], p)
+        ist[S_NFEV] += 1
+        if ist[S_DENSECONTROL] != 0:
+            errint, mu = _coefficients(W, ist, R_Y, R_YNEW, R_F, R_FNEW, t_new - t, kc)
+            fst[F_HDENSE] = h_abs / max(errint ** (1.0 / (mu + 4)), 0.01)
+            if errint > _DENSE_REJECT:
+                ist[S_NREJ] += 1
+                ist[S_DENSE] = 0
+                h_abs = fst[F_HDENSE]
+                reject = True
+                restart = True
+                continue
+        ist[S_FAIL] = 0
+        k, h_next = _next_order_and_step(kc, k, h_abs, reject, fst, ist)
+        fst[F_H] = h_next
+        ist[S_K] = k
+        _accept(t, t_new, kc, W, fst, ist)
+        return True
+
+
+@kernel
+def dense(rhs, p, W, fst, ist, t, out):
+    """The dense output of the last step at ``t`` (a polynomial in ``u = 2 (t - t_old) / H - 1``), into ``out``."""
+    if ist[S_DENSE] == 0:
+        _coefficients(W, ist, R_YOLD, R_Y, R_FOLD, R_F, fst[F_HSTEP], ist[S_KC])
+    n = W.shape[1]
+    u = 2.0 * (t - fst[F_TOLD]) / fst[F_HSTEP] - 1.0
+    top = ist[S_MU] + 4
+    for m in range(n):
+        out[m] = W[R_COEF + top, m]
+    for r in range(top - 1, -1, -1):
+        for m in range(n):
+            out[m] = out[m] * u + W[R_COEF + r, m]
+
+
+# --- the SciPy face ---------------------------------------------------------------------------------
 def _validate_tol(rtol, atol, n):
     """Check ``rtol`` and ``atol`` as SciPy does, raising ``ValueError`` on bad input.
 
-    ``rtol`` below ``100 * eps`` is raised to it with a warning (as SciPy);
-    negative or non-finite values and wrong shapes are errors.
+    ``rtol`` below ``100 * eps`` is raised to it with a warning (as SciPy); negative or
+    non-finite values and wrong shapes are errors.
     """
     checked = []
     for name, tol in (("rtol", rtol), ("atol", atol)):
@@ -229,16 +584,7 @@ def _validate_order(value, name, low, high):
 
 
 class GBSDenseOutput(DenseOutput):
-    """Polynomial interpolant over one GBS step.
-
-    Parameters
-    ----------
-    t_old, t : float
-        Start and end of the step.
-    coeffs : ndarray, shape (degree + 1, n)
-        Coefficients in powers of ``u = 2 (t - t_old) / (t - t_old) - 1``,
-        i.e. ``u = -1`` at ``t_old`` and ``u = 1`` at ``t``.
-    """
+    """Polynomial interpolant over one GBS step: coefficients in powers of ``u = 2 (t - t_old) / H - 1``."""
 
     def __init__(self, t_old, t, coeffs):
         super().__init__(t_old, t)
@@ -246,32 +592,24 @@ class GBSDenseOutput(DenseOutput):
         self.coeffs = coeffs
 
     def _call_impl(self, t):
-        u = 2.0 * (t - self.t_old) / self.h - 1.0
-        if u.ndim == 0:
-            y = self.coeffs[-1].copy()
-            for c in self.coeffs[-2::-1]:
-                y *= u
-                y += c
-            return y
-        y = np.repeat(self.coeffs[-1][:, None], u.size, axis=1)
+        u = 2.0 * (np.asarray(t) - self.t_old) / self.h - 1.0
+        y = np.multiply.outer(np.ones_like(u), self.coeffs[-1]).T if u.ndim else self.coeffs[-1].copy()
         for c in self.coeffs[-2::-1]:
-            y *= u
-            y += c[:, None]
+            y = y * u + (c[:, None] if u.ndim else c)
         return y
 
 
 class BulirschStoer(OdeSolver):
     """GBS extrapolation method with order and step-size control and dense output.
 
-    See the module docstring for the method and references. Use it like the
-    SciPy solvers, e.g. ``solve_ivp(fun, t_span, y0, method=BulirschStoer,
-    rtol=1e-10, atol=1e-12, dense_output=True, events=...)``; integration in
-    either time direction is supported.
+    See the module docstring for the method and references. Use it like the SciPy solvers, e.g.
+    ``solve_ivp(fun, t_span, y0, method=BulirschStoer, rtol=1e-10, atol=1e-12, dense_output=True,
+    events=...)``; integration in either time direction is supported. It runs the kernels that
+    lubelink's compiled driver runs, as Python.
 
-    At high order the steps are long (a few per oscillation period). Event
-    detection by sign changes at step ends (``solve_ivp``'s way) then misses
-    an event function that crosses zero twice within one step; bound
-    ``max_step`` where that matters.
+    At high order the steps are long (a few per oscillation period). Event detection by sign
+    changes at step ends (``solve_ivp``'s way) then misses an event function that crosses zero
+    twice within one step; bound ``max_step`` where that matters.
 
     Parameters
     ----------
@@ -289,32 +627,29 @@ class BulirschStoer(OdeSolver):
     max_step : float, optional
         Largest allowed step size.
     first_step : float, optional
-        Initial step size (the fixed step size if ``adaptive=False``).
-        Chosen automatically if omitted.
+        Initial step size (the fixed step size if ``adaptive=False``). Chosen automatically if
+        omitted.
     vectorized : bool, optional
         Whether ``fun`` is vectorized (only passed to the base class).
     max_order : int, optional
-        Maximal number of extrapolation columns ``k`` (method order ``2k``),
-        from 3 to 12. Default 9 (as ODEX).
+        Maximal number of extrapolation columns ``k`` (method order ``2k``), from 3 to 12.
+        Default 9 (as ODEX).
     fixed_order : int, optional
-        Use exactly ``k = fixed_order`` columns in every step (no order
-        control; the step size is still controlled if ``adaptive``).
+        Use exactly ``k = fixed_order`` columns in every step (no order control; the step size is
+        still controlled if ``adaptive``).
     adaptive : bool, optional
-        If False, take fixed steps of size ``first_step`` with
-        ``fixed_order`` columns and no error control (for convergence
-        studies). Default True.
+        If False, take fixed steps of size ``first_step`` with ``fixed_order`` columns and no
+        error control (for convergence studies). Default True.
     dense_error_control : bool, optional
-        Reject steps whose dense-output error estimate is too large (ODEX
-        does this). Default True.
+        Reject steps whose dense-output error estimate is too large (ODEX does this). Default True.
     **extraneous
         Ignored, with a warning.
 
     Attributes
     ----------
     order : int
-        Number of extrapolation columns ``k`` used in the last accepted step
-        (before the first step: the initial choice). The method order is
-        ``2 * order``.
+        Number of extrapolation columns ``k`` used in the last accepted step (before the first
+        step: the initial choice). The method order is ``2 * order``.
     max_order : int
         Maximal number of columns.
     h_abs : float
@@ -327,9 +662,9 @@ class BulirschStoer(OdeSolver):
         State at the start of the last step.
     """
 
-    def __init__(self, fun, t0, y0, t_bound, rtol=1e-3, atol=1e-6, max_step=np.inf,
-                 first_step=None, vectorized=False, max_order=DEFAULT_MAX_ORDER,
-                 fixed_order=None, adaptive=True, dense_error_control=True, **extraneous):
+    def __init__(self, fun, t0, y0, t_bound, rtol=1e-3, atol=1e-6, max_step=np.inf, first_step=None,
+                 vectorized=False, max_order=DEFAULT_MAX_ORDER, fixed_order=None, adaptive=True,
+                 dense_error_control=True, **extraneous):
         if extraneous:
             warnings.warn("The following arguments have no effect for BulirschStoer: "
                           + ", ".join(f"`{x}`" for x in extraneous) + ".", stacklevel=2)
@@ -338,332 +673,62 @@ class BulirschStoer(OdeSolver):
         if not max_step > 0:
             raise ValueError(f"`max_step` must be positive, got {max_step!r}.")
         self.max_step = max_step
-        self.max_order = _validate_order(max_order, "max_order", 3, 12)
+        self.max_order = _validate_order(max_order, "max_order", 3, KMAX)
         self.adaptive = bool(adaptive)
         low = 2 if self.adaptive else 1
-        self.fixed_order = (None if fixed_order is None
-                            else _validate_order(fixed_order, "fixed_order", low, self.max_order))
+        self.fixed_order = None if fixed_order is None else _validate_order(fixed_order, "fixed_order", low,
+                                                                           self.max_order)
         if not self.adaptive and (first_step is None or self.fixed_order is None):
             raise ValueError("`adaptive=False` needs `first_step` and `fixed_order`.")
-        self.dense_error_control = bool(dense_error_control) and self.adaptive
-        self.y_old = None
-        self.n_accepted = 0
-        self.n_rejected = 0
-        self._tab = _tables(self.max_order)
-        self._allocate()
-        self.f = self.fun(self.t, self.y)
-        self.order = self.fixed_order or self._initial_order()
         interval = abs(t_bound - t0)
-        if first_step is None:
-            self.h_abs = self._initial_step(interval)
-        else:
-            if not 0 < first_step <= interval:
-                raise ValueError(f"`first_step` must be in (0, |t_bound - t0|] = (0, {interval}], "
-                                 f"got {first_step!r}.")
-            self.h_abs = float(first_step)
-        self._k = self.order
-        self._h_dense = np.inf
-        self._dense = None
+        if first_step is not None and not 0 < first_step <= interval:
+            raise ValueError(f"`first_step` must be in (0, |t_bound - t0|] = (0, {interval}], got {first_step!r}.")
+        self.y_old = None
+        self._W = np.zeros((rows(self.n), self.n), dtype=self.y.dtype)
+        self._W[R_Y] = self.y
+        self._W[R_ATOL] = np.broadcast_to(self.atol, (self.n,))
+        self._W[R_RTOL] = np.broadcast_to(self.rtol, (self.n,))
+        self._fst = np.zeros(FLOATS)
+        self._fst[F_T], self._fst[F_TEND], self._fst[F_DIR] = t0, t_bound, self.direction
+        self._fst[F_MAXSTEP] = max_step
+        self._ist = np.zeros(INTS, dtype=np.int64)
+        setup(self._W, self._fst, self._ist, {"max_order": self.max_order, "fixed_order": self.fixed_order,
+                                              "adaptive": self.adaptive, "first_step": first_step,
+                                              "dense_error_control": dense_error_control})
+        self.dense_error_control = bool(self._ist[S_DENSECONTROL])
 
-    # --- set-up ---------------------------------------------------------
+        def rhs(t, y, out, p):
+            out[:] = self.fun(t, y)
 
-    def _allocate(self):
-        nseq = self._tab.nseq
-        dtype = self.y.dtype
-        offsets = np.concatenate(([0], np.cumsum(nseq + 1)))
-        self._fstore = np.empty((offsets[-1], self.n), dtype=dtype)
-        self._fseq = [self._fstore[offsets[j]:offsets[j + 1]] for j in range(nseq.size)]
-        self._t1 = np.empty((nseq.size, self.n), dtype=dtype)
-        self._ymid = np.empty((nseq.size, self.n), dtype=dtype)
-        self._ya = np.empty(self.n, dtype=dtype)
-        self._yb = np.empty(self.n, dtype=dtype)
-        self._tmp = np.empty(self.n, dtype=dtype)
-        # 1-based per column: proposed step sizes H_j and work per unit step W_j
-        self._hh = np.zeros(self.max_order + 2)
-        self._ww = np.zeros(self.max_order + 2)
+        self._rhs = rhs
+        init.py_func(rhs, None, self._W, self._fst, self._ist)
+        self.f = self._W[R_F].copy()
+        self.order = int(self._ist[S_K])
 
-    def _initial_order(self):
-        """ODEX's choice ``k ~ 0.6 * (-log10 rtol) + 1.5``, within ``[2, max_order - 1]``."""
-        digits = -math.log10(float(np.min(self.rtol)) + 1e-40)
-        return max(2, min(self.max_order - 1, int(digits * 0.6 + 1.5)))
+    @property
+    def h_abs(self):
+        return float(self._fst[F_H])
 
-    def _initial_step(self, interval):
-        """Hairer-Norsett-Wanner II.4 starting-step heuristic for order ``2k``."""
-        if self.n == 0 or interval == 0:
-            return min(interval, self.max_step)
-        scale = self.atol + np.abs(self.y) * self.rtol
-        d0, d1 = _rms(self.y / scale), _rms(self.f / scale)
-        h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
-        h0 = min(h0, interval)
-        f1 = self.fun(self.t + self.direction * h0, self.y + self.direction * h0 * self.f)
-        d2 = _rms((f1 - self.f) / scale) / h0
-        if d1 <= 1e-15 and d2 <= 1e-15:
-            h1 = max(1e-6, h0 * 1e-3)
-        else:
-            h1 = (0.01 / max(d1, d2)) ** (1.0 / (2 * self.order + 1))
-        return min(100 * h0, h1, interval, self.max_step)
+    @property
+    def n_accepted(self):
+        return int(self._ist[S_NACC])
 
-    # --- one midpoint sequence and the tableau --------------------------
-
-    def _midpoint_sequence(self, j, t, y, h, stability_scale):
-        """Gragg's method with ``n_j`` substeps; fills ``T_j1``, ``f`` values, midpoint value.
-
-        ``j`` is 0-based. ``h`` is the signed step. With ``stability_scale``
-        the first substep is checked for instability (ODEX's test).
-        """
-        n = int(self._tab.nseq[j])
-        hj = h / n
-        fvals = self._fseq[j]
-        fvals[0] = self.f
-        y_prev, y_cur, tmp = self._ya, self._yb, self._tmp
-        y_prev[...] = y
-        np.multiply(self.f, hj, out=y_cur)
-        y_cur += y
-        for i in range(1, n):
-            if 2 * i == n:
-                self._ymid[j] = y_cur
-            fvals[i] = self.fun(t + i * hj, y_cur)
-            if i == 1 and stability_scale is not None:
-                self._check_stability(fvals[1], stability_scale)
-            np.multiply(fvals[i], 2.0 * hj, out=tmp)
-            y_prev += tmp
-            y_prev, y_cur = y_cur, y_prev
-        fvals[n] = self.fun(t + h, y_cur)
-        t1 = self._t1[j]
-        np.multiply(fvals[n], hj, out=t1)
-        t1 += y_prev
-        t1 += y_cur
-        t1 *= 0.5
-
-    def _check_stability(self, f1, scale):
-        base = _rms(self.f / scale) ** 2
-        change = _rms((f1 - self.f) / scale) ** 2
-        if change > 4.0 * max(base, EPS) or not np.isfinite(change):
-            raise _Diverged
-
-    def _column(self, col, t, y, h, checks):
-        """Compute column ``col`` (1-based) of the tableau; return ``err_col`` (None for 1).
-
-        Stores ``T_col,col`` in ``self._y_new`` and the proposed step ``H_col``
-        and work per unit step ``W_col``.
-        """
-        stab = self._stability_scale if checks and col <= _STAB_COLUMNS else None
-        self._midpoint_sequence(col - 1, t, y, h, stab)
-        weights = self._tab.weights
-        self._y_new = weights[0, col] @ self._t1[:col]
-        if col == 1:
-            return None
-        lower = weights[1, col] @ self._t1[1:col]
-        scale = self.atol + self.rtol * np.maximum(np.abs(y), np.abs(self._y_new))
-        err = _rms((self._y_new - lower) / scale)
-        if checks:
-            if not err * EPS < 1.0 or (col > 2 and err >= self._err_old):
-                raise _Diverged
-            self._err_old = max(4.0 * err, 1.0)
-        expo = 1.0 / (2 * col - 1)
-        facmin = _FAC1 ** expo
-        fac = min(_FAC2 / facmin, max(facmin, (err / _SAFE1) ** expo / _SAFE2))
-        self._hh[col] = min(abs(h) / fac, self.max_step)
-        self._ww[col] = self._tab.work[col] / self._hh[col]
-        return err
-
-    # --- one attempt ----------------------------------------------------
-
-    def _attempt(self, t, y, h, k, full, reject):
-        """Try a step of signed size ``h`` aiming at ``k`` columns.
-
-        Returns ``(accepted, kc)`` with ``kc`` the last column computed.
-        ``full`` computes columns 1, 2, ... k and accepts at the first
-        converged one (ODEX's first and last step); otherwise the
-        convergence monitor over columns ``k - 1, k, k + 1`` decides.
-        """
-        self._stability_scale = self.atol + self.rtol * np.abs(y)
-        nseq = self._tab.nseq
-        if full:
-            for col in range(1, k + 1):
-                err = self._column(col, t, y, h, checks=True)
-                if col > 1 and err <= 1.0 and self.fixed_order is None:
-                    return True, col
-            return err <= 1.0, k
-        for col in range(1, k):
-            err = self._column(col, t, y, h, checks=True)
-        if k > 2 and not reject:
-            if err <= 1.0:
-                return True, k - 1
-            if err > (nseq[k] * nseq[k - 1] / nseq[0] ** 2) ** 2:
-                return False, k - 1
-        err = self._column(k, t, y, h, checks=True)
-        if err <= 1.0:
-            return True, k
-        if err > (nseq[k] / nseq[0]) ** 2:
-            return False, k
-        err = self._column(k + 1, t, y, h, checks=True)
-        return err <= 1.0, k + 1
-
-    def _order_after_rejection(self, k, kc):
-        if self.fixed_order is not None:
-            return k
-        ww = self._ww
-        k = min(k, kc, self.max_order - 1)
-        if k > 2 and ww[k - 1] < ww[k] * _FAC3:
-            k -= 1
-        return k
-
-    def _next_order_and_step(self, kc, k, h_abs, reject):
-        """ODEX's choice of columns and step size after an accepted step."""
-        ww, hh, work = self._ww, self._hh, self._tab.work
-        if self.fixed_order is not None:
-            return k, (min(h_abs, hh[k]) if reject else hh[k])
-        top = self.max_order - 1
-        if kc == 2:
-            kopt = 2 if reject else min(3, top)
-        elif kc <= k:
-            kopt = kc
-            if ww[kc - 1] < ww[kc] * _FAC3:
-                kopt = kc - 1
-            if ww[kc] < ww[kc - 1] * _FAC4:
-                kopt = min(kc + 1, top)
-        else:
-            kopt = kc - 1
-            if kc > 3 and ww[kc - 2] < ww[kc - 1] * _FAC3:
-                kopt = kc - 2
-            if ww[kc] < ww[kopt] * _FAC4:
-                kopt = min(kc, top)
-        if reject:
-            kopt = min(kopt, kc)
-            return kopt, min(h_abs, hh[kopt])
-        if kopt <= kc:
-            return kopt, hh[kopt]
-        if kc < k and ww[kc] < ww[kc - 1] * _FAC4:
-            return kopt, hh[kc] * work[kopt + 1] / work[kc]
-        return kopt, hh[kc] * work[kopt] / work[kc]
-
-    # --- OdeSolver interface -------------------------------------------
+    @property
+    def n_rejected(self):
+        return int(self._ist[S_NREJ])
 
     def _step_impl(self):
-        if not self.adaptive:
-            return self._fixed_step()
-        t, y = self.t, self.y
-        h_abs, k = self.h_abs, self._k
-        min_step = 10 * abs(np.nextafter(t, self.direction * np.inf) - t)
-        remaining = abs(self.t_bound - t)
-        reject, restart = False, True
-        while True:
-            if restart:
-                h_abs = min(h_abs, self.max_step, self._h_dense)
-            last = 1.01 * h_abs >= remaining
-            if last:
-                h_abs = remaining
-            if h_abs < min_step:
-                return False, TOO_SMALL_STEP
-            full = self.fixed_order is not None or (restart and (self.n_accepted == 0 or last))
-            h = self.direction * h_abs
-            try:
-                accepted, kc = self._attempt(t, y, h, k, full, reject)
-            except _Diverged:
-                self.n_rejected += 1
-                h_abs *= _SAFE3
-                reject, restart = True, True
-                continue
-            if not accepted:
-                self.n_rejected += 1
-                k = self._order_after_rejection(k, kc)
-                h_abs = self._hh[k]
-                reject, restart = True, False
-                continue
-            t_new = self.t_bound if last else t + h
-            y_new = self._y_new
-            f_new = self.fun(t_new, y_new)
-            self._dense = None
-            if self.dense_error_control:
-                coeffs, errint, mu = self._dense_coefficients(t, t_new, y, y_new, f_new, kc)
-                self._h_dense = h_abs / max(errint ** (1.0 / (mu + 4)), 0.01)
-                if errint > _DENSE_REJECT:
-                    self.n_rejected += 1
-                    h_abs = self._h_dense
-                    reject, restart = True, True
-                    continue
-                self._dense = GBSDenseOutput(t, t_new, coeffs)
-            self._k, self.h_abs = self._next_order_and_step(kc, k, h_abs, reject)
-            self._accept(t, t_new, y, y_new, f_new, kc)
-            return True, None
-
-    def _fixed_step(self):
-        t, y, k = self.t, self.y, self.fixed_order
-        remaining = abs(self.t_bound - t)
-        last = 1.01 * self.h_abs >= remaining
-        h = self.direction * (remaining if last else self.h_abs)
-        for col in range(1, k + 1):
-            self._column(col, t, y, h, checks=False)
-        t_new = self.t_bound if last else t + h
-        y_new = self._y_new
-        f_new = self.fun(t_new, y_new)
-        self._dense = None
-        self._accept(t, t_new, y, y_new, f_new, k)
+        if not step.py_func(self._rhs, None, self._W, self._fst, self._ist):
+            return False, TOO_SMALL_STEP
+        self.y_old = self._W[R_YOLD].copy()
+        self.t = float(self._fst[F_T])
+        self.y = self._W[R_Y].copy()
+        self.f = self._W[R_F].copy()
+        self.order = int(self._ist[S_KC])
         return True, None
 
-    def _accept(self, t, t_new, y, y_new, f_new, kc):
-        self._dense_args = (t, t_new, y, y_new, self.f, f_new, kc)
-        self.y_old = y
-        self.t = t_new
-        self.y = y_new
-        self.f = f_new
-        self.order = kc
-        self.n_accepted += 1
-
     def _dense_output_impl(self):
-        if self._dense is None:
-            t, t_new, y, y_new, f_old, f_new, kc = self._dense_args
-            coeffs = self._dense_coefficients(t, t_new, y, y_new, f_new, kc, f_old)[0]
-            self._dense = GBSDenseOutput(t, t_new, coeffs)
-        return self._dense
-
-    # --- dense output ---------------------------------------------------
-
-    def _midpoint_derivatives(self, h, kc, mu):
-        """``d[kappa] ~ H^kappa y^(kappa)(t_mid)`` for ``kappa = 0 ... mu`` (HNW II.9)."""
-        tab = self._tab
-        d = np.empty((mu + 1, self.n), dtype=self.y.dtype)
-        d[0] = tab.weights[0, kc] @ self._ymid[:kc]
-        if mu == 0:
-            return d
-        first = (np.arange(1, mu + 1) + 1) // 2 - 1  # first sequence reaching derivative kappa
-        diffs = [h * (tab.diff_ops[j][:mu] @ self._fseq[j]) for j in range(kc)]
-        for kappa in range(1, mu + 1):
-            j0 = first[kappa - 1]
-            column = np.array([diffs[j][kappa - 1] for j in range(j0, kc)])
-            d[kappa] = tab.weights[j0, kc] @ column
-        return d
-
-    def _dense_coefficients(self, t, t_new, y, y_new, f_new, kc, f_old=None):
-        """Interpolant coefficients in powers of ``u``, interpolation error estimate, ``mu``.
-
-        The polynomial matches ``y`` and ``H f`` at ``u = -1, 1`` and
-        ``d[kappa] / (kappa! 2^kappa)`` as coefficient of ``u^kappa``,
-        ``kappa <= mu``. The estimate is the largest scaled difference to the
-        polynomial with ``mu - 1``, ``c u^mu (1 - u^2)^2``.
-        """
-        tab = self._tab
-        f_old = self.f if f_old is None else f_old
-        h = t_new - t
-        mu = max(2 * kc - _MU_DIFF + 1, 0)
-        coeffs = np.empty((mu + 5, self.n), dtype=self.y.dtype)
-        coeffs[:mu + 1] = self._midpoint_derivatives(h, kc, mu) * tab.taylor[:mu + 1, None]
-        low = coeffs[:mu + 1]
-        sign = (-1.0) ** np.arange(mu + 1)
-        powers = np.arange(mu + 1)
-        residual = np.array([
-            y - sign @ low,
-            y_new - low.sum(axis=0),
-            0.5 * h * f_old - (powers * -sign) @ low,
-            0.5 * h * f_new - powers @ low,
-        ])
-        coeffs[mu + 1:] = tab.hermite_inv[mu] @ residual
-        if mu == 0:
-            return coeffs, 0.0, mu
-        top = coeffs[mu]
-        residual_lower = residual + np.array([sign[mu], 1.0, -mu * sign[mu], mu])[:, None] * top
-        c = top - tab.hermite_inv[mu - 1][0] @ residual_lower
-        scale = self.atol + self.rtol * np.maximum(np.abs(y), np.abs(y_new))
-        errint = _rms(c / scale) * tab.error_shape[mu]
-        return coeffs, errint, mu
+        if self._ist[S_DENSE] == 0:
+            _coefficients(self._W, self._ist, R_YOLD, R_Y, R_FOLD, R_F, self._fst[F_HSTEP], self._ist[S_KC])
+        coeffs = self._W[R_COEF:R_COEF + self._ist[S_MU] + 5].copy()
+        return GBSDenseOutput(float(self._fst[F_TOLD]), self.t, coeffs)

@@ -1,45 +1,58 @@
-"""Step-by-step driver for any :class:`scipy.integrate.OdeSolver`.
+"""The integration loop: any method, sampling on a time grid, an event, progress and a time budget.
 
-It does what ``solve_ivp`` does (sampling on a time grid from the dense
-output, locating the root of one event function), plus what a long
-simulation needs: a progress callback, a wall-clock budget and a clear
-status instead of an exception. It knows nothing of the physics.
+:func:`advance` is the loop in compiled code. It takes the method (``init``, ``step``, ``dense``)
+and the problem (``rhs``, ``event``, parameters ``p``) as arguments, as first-class
+functions, so it knows nothing of either; it runs a method until the end of the interval, an event
+(:func:`.events.locate`), a failure, or a pause (every ``STEPS_PER_CALL`` steps, or at
+``F_TPAUSE``) at which :func:`integrate` returns to Python for progress and the deadline and
+calls it again. With ``compiled=False`` the same source runs as Python (the ``numpy`` backend):
+then any Python callables serve as method and problem, which is how SciPy's solvers are driven
+(:mod:`.scipy_methods`).
+
+Signatures (``P`` the type of ``p``)::
+
+    rhs(t, y, out, p)                      writes dy/dt into out
+    event(t, y, p) -> (float, float)       the event function (before ``sign``) and its time
+                                           derivative along solutions
+    init(rhs, p, W, fst, ist)              first evaluation and step size
+    step(rhs, p, W, fst, ist) -> bool      one accepted step; False if the step size underflows
+    dense(rhs, p, W, fst, ist, t, out)     dense output of the last step at t
 """
 
 from __future__ import annotations
 
+import threading
 import time
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import brentq
 
-__all__ = ["Segment", "integrate_segment", "solver_class", "METHODS"]
+from .._jit import ENABLED, kernel
+from ._layout import (EVENT, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, F_RES, F_T, F_TBEFORE, F_TEND, F_TFINAL,
+                      F_TOLD, F_TPAUSE, F_TSTOP, FAIL_NONFINITE, FAIL_RHS, FAIL_SMALL_STEP, FAILED, FINISHED, R_ATOL, R_RTOL,
+                      R_Y, R_YBEFORE, R_YFINAL, R_YOLD, RUNNING, S_ARMED, S_EVENT, S_FAIL, S_IEVAL, S_INIT,
+                      S_MAXSTEPS, S_NFEV, S_NREJ, S_NSTEPS)
+from .control import EPS, TOO_SMALL_STEP
+from .events import locate
 
-METHODS = ("DOP853", "RK45", "Radau", "BDF", "LSODA", "bulirsch-stoer")
+__all__ = ["Segment", "Method", "integrate", "advance", "first_class", "STEPS_PER_CALL"]
 
-
-def solver_class(method):
-    """The :class:`~scipy.integrate.OdeSolver` subclass for a method name."""
-    if method == "bulirsch-stoer":
-        from .bulirsch_stoer import BulirschStoer
-
-        return BulirschStoer
-    import scipy.integrate as si
-
-    if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
-    return getattr(si, method)
+#: Steps of the first call into compiled code; later calls take as many as fill :data:`CALL_SECONDS`.
+STEPS_PER_CALL = 64
+#: Wall time of one call into compiled code [s] between returns to Python (deadline, progress).
+CALL_SECONDS = 0.05
+#: With a progress callback or a deadline, calls end at least every this fraction of the interval.
+PROGRESS_FRACTION = 0.01
 
 
 @dataclass
 class Segment:
     """Outcome of integrating from ``t0`` up to ``t_end`` or the first event.
 
-    ``status`` is ``"finished"`` (reached ``t_end``), ``"event"`` (the event
-    function crossed zero downwards at ``t_final``), ``"failed"`` (the
-    solver gave up or the state became non-finite) or ``"timeout"`` (the
-    wall-clock deadline passed).
+    ``status``: ``"finished"`` (reached ``t_end``), ``"event"`` (the event fell to zero; the zero
+    lies between ``t_before``, where it is still positive, and ``t_final``), ``"failed"`` or
+    ``"timeout"``. ``t``, ``y``: the samples of ``t_eval`` up to the end.
     """
 
     t: np.ndarray
@@ -48,146 +61,296 @@ class Segment:
     message: str
     t_final: float
     y_final: np.ndarray
+    t_before: float = np.nan
+    y_before: np.ndarray | None = None
     nfev: int = 0
-    njev: int = 0
     nsteps: int = 0
     extra: dict = field(default_factory=dict)
 
 
-def _first_crossing(event, sol, t_old, g_old, t_new, g_new, n_sub):
-    """First time in ``(t_old, t_new]`` where ``event`` falls to zero or below, or None.
+@dataclass(frozen=True)
+class Method:
+    """An integration method: its kernels, the rows of ``W`` it needs, and how it is set up.
 
-    The event is sampled on ``n_sub`` equal sub-intervals of the step (on the
-    dense output), so a dip that starts and ends inside one long step is
-    still seen; the first bracket is then refined by Brent's method.
+    ``setup(W, fst, ist, options)`` fills the method's own slots (e.g. the linear part of the
+    exponential method) before the first call.
     """
-    if not g_old > 0.0:  # started at or below zero: the crossing is the start itself
-        return t_old
 
-    def g(t):
-        return event(t, sol(t))
-
-    ts = np.linspace(t_old, t_new, n_sub + 1)
-    lo = t_old
-    for t in ts[1:]:
-        g_t = g_new if t == t_new else g(t)
-        if not g_t > 0.0:
-            if g_t == 0.0:
-                return t
-            return brentq(g, lo, t, xtol=4 * np.finfo(float).eps * max(1.0, abs(t)),
-                          rtol=4 * np.finfo(float).eps, maxiter=200)
-        lo = t
-    return None
+    name: str
+    init: object
+    step: object
+    dense: object
+    rows: object
+    floats: int = 32
+    ints: int = 16
+    setup: object = None
 
 
-def integrate_segment(fun, t0, y0, t_end, t_eval, *, method="DOP853", rtol=1e-8, atol=1e-12,
-                      max_step=np.inf, first_step=None, event=None, event_resolution=None,
-                      deadline=None, progress=None):
-    """Integrate ``dy/dt = fun(t, y)`` from ``t0`` until ``t_end`` or a terminal event.
+@kernel
+def advance(init, step, dense, rhs, event, p, sign, t_eval, out, W, fst, ist):
+    """Integrate until the end, an event, a failure or a pause; returns ``RUNNING``, ``FINISHED``, ``EVENT`` or ``FAILED``.
+
+    Samples of ``t_eval`` are written to ``out`` from row ``ist[S_IEVAL]`` on.
+    """
+    n = W.shape[1]
+    if ist[S_INIT] == 0:
+        ist[S_INIT] = 1
+        init(rhs, p, W, fst, ist)
+        if ist[S_EVENT] != 0:
+            g, d = event(fst[F_T], W[R_Y], p)
+            fst[F_GOLD] = sign * g
+            fst[F_DOLD] = sign * d
+            ist[S_ARMED] = 1 if fst[F_GOLD] > 0.0 else 0
+        if fst[F_T] >= fst[F_TEND]:
+            fst[F_TFINAL] = fst[F_T]
+            for m in range(n):
+                W[R_YFINAL, m] = W[R_Y, m]
+            return FINISHED
+    steps = 0
+    n_eval = t_eval.shape[0]
+    while True:
+        if fst[F_T] >= fst[F_TPAUSE] or steps >= ist[S_MAXSTEPS]:
+            return RUNNING
+        t_old = fst[F_T]
+        ok = step(rhs, p, W, fst, ist)
+        steps += 1
+        if not ok:
+            if ist[S_FAIL] == 0:
+                ist[S_FAIL] = FAIL_SMALL_STEP
+            fst[F_TFINAL] = t_old
+            for m in range(n):
+                W[R_YFINAL, m] = W[R_Y, m]
+            return FAILED
+        ist[S_NSTEPS] += 1
+        t_new = fst[F_T]
+        for m in range(n):
+            if not np.isfinite(W[R_Y, m]):
+                ist[S_FAIL] = FAIL_NONFINITE
+                fst[F_TFINAL] = t_old
+                for k in range(n):
+                    W[R_YFINAL, k] = W[R_YOLD, k]
+                return FAILED
+        hit = False
+        if ist[S_EVENT] != 0:
+            if ist[S_ARMED] != 0:
+                hit = locate(dense, rhs, event, p, sign, W, fst, ist, t_old, t_new)
+            else:
+                g, d = event(t_new, W[R_Y], p)
+                fst[F_GOLD] = sign * g
+                fst[F_DOLD] = sign * d
+                ist[S_ARMED] = 1 if fst[F_GOLD] > 0.0 else 0
+        t_stop = fst[F_TFINAL] if hit else t_new
+        i = ist[S_IEVAL]
+        while i < n_eval and t_eval[i] <= t_stop:
+            if t_eval[i] == t_new:
+                for m in range(n):
+                    out[i, m] = W[R_Y, m]
+            else:
+                dense(rhs, p, W, fst, ist, t_eval[i], out[i])
+            i += 1
+        ist[S_IEVAL] = i
+        fst[F_TSTOP] = t_stop
+        if hit:
+            return EVENT
+        if t_new >= fst[F_TEND]:
+            fst[F_TFINAL] = t_new
+            for m in range(n):
+                W[R_YFINAL, m] = W[R_Y, m]
+            return FINISHED
+
+
+@kernel
+def no_event(t, y, p):
+    """An event that never happens (for segments that watch none)."""
+    return 1.0, 0.0
+
+
+# --- first-class functions ------------------------------------------------------------------------
+_lock = threading.Lock()
+_first_class_cache = {}
+
+
+@lru_cache(maxsize=1)
+def _first_class_type():
+    """The class of first-class function objects, with its Numba type computed once per object."""
+    from numba import types
+    from numba.extending import typeof_impl
+
+    class FirstClass(types.CompileResultWAP):
+        def __init__(self, cres):
+            super().__init__(cres)
+            self.numba_type = types.FunctionType(cres.signature)
+
+    @typeof_impl.register(FirstClass)
+    def _typeof(val, c):
+        return val.numba_type
+
+    return FirstClass
+
+
+def first_class(dispatcher, sig):
+    """``dispatcher`` compiled for ``sig`` as a first-class function object (cached), for :func:`advance`.
+
+    Passing a dispatcher itself would make Numba compile :func:`advance` for that dispatcher's
+    type, which it cannot cache on disk; a first-class function type it can.
+    """
+    key = (dispatcher, sig)
+    with _lock:
+        found = _first_class_cache.get(key)
+        if found is None:
+            dispatcher.compile(sig.args)
+            found = _first_class_type()(dispatcher.overloads[sig.args])
+            _first_class_cache[key] = found
+        return found
+
+
+@lru_cache(maxsize=64)
+def signatures(p_type):
+    """Numba signatures of ``(rhs, event, init, step, dense)`` for parameters of type ``p_type``."""
+    from numba import types
+
+    f8, i8 = types.float64, types.int64
+    vec, mat, ivec = f8[::1], f8[:, ::1], i8[::1]
+    rhs = types.void(f8, vec, vec, p_type)
+    event = types.UniTuple(f8, 2)(f8, vec, p_type)
+    fr = types.FunctionType(rhs)
+    init = types.void(fr, p_type, mat, vec, ivec)
+    step = types.boolean(fr, p_type, mat, vec, ivec)
+    dense = types.void(fr, p_type, mat, vec, ivec, f8, vec)
+    return rhs, event, init, step, dense
+
+
+@lru_cache(maxsize=64)
+def _entry_point(types_head):
+    """:func:`advance` compiled for these argument types, called without Numba's type dispatch."""
+    from numba import types
+
+    f8, i8 = types.float64, types.int64
+    argtypes = types_head + (f8, f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], i8[::1])
+    advance.compile(argtypes)
+    return advance.overloads[argtypes].entry_point
+
+
+# --- the Python side of a segment -------------------------------------------------------------------
+def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1e-6, max_step=np.inf,
+              event_sign=0, event_resolution=None, deadline=None, progress=None, compiled=ENABLED, options=None,
+              p_type=None):
+    """Integrate ``dy/dt = rhs(t, y)`` from ``t0`` to ``t_end`` or the first zero of ``-event_sign * g``.
 
     Parameters
     ----------
-    fun : callable
-        Right-hand side ``fun(t, y) -> ndarray``.
+    method : Method
+        The integrator.
+    rhs, event : kernel or callable
+        The problem (see the module docstring); ``event`` (``(g, g')``) is ignored when
+        ``event_sign`` is 0. Kernels (``@kernel``) when ``compiled``; else anything callable
+        from Python (a kernel then runs compiled, its ``py_func`` as Python).
+    p : object
+        Parameters passed to ``rhs`` and ``event``.
     t0, t_end : float
-        Interval [s].
-    y0 : ndarray
+        Interval, ``t_end >= t0``.
+    y0 : array_like, shape ``(n,)``
         Initial state.
-    t_eval : ndarray
-        Increasing sample times in ``(t0, t_end]`` (those before the event
-        are returned).
-    method : str or OdeSolver subclass
-        Integrator.
-    event : callable, optional
-        ``event(t, y) -> float``; the segment ends where it crosses zero
-        from positive to non-positive.
+    t_eval : array_like
+        Increasing sample times in ``(t0, t_end]``.
+    rtol, atol : float or array_like
+        Tolerances (per component if arrays).
+    max_step : float
+        Largest step.
+    event_sign : {-1, 0, 1}
+        0: no event; ``-1``: the event is ``g`` falling to zero; ``+1``: ``-g`` falling to zero
+        (``g`` rising to zero).
     event_resolution : float, optional
-        Longest time between two samples of ``event`` [s]: longer steps are
-        sampled inside on their dense output, so that a zero crossing and
-        return within one step is not missed.
+        Longest interval between two samples of the event inside a step [time units].
     deadline : float, optional
-        ``time.perf_counter()`` value after which the run stops.
+        ``time.perf_counter()`` value after which to stop (status ``"timeout"``).
     progress : callable, optional
-        Called with the current time after every step.
+        ``progress(t)``, called at every return to Python.
+    compiled : bool
+        Run :func:`advance` and the method compiled (kernels as first-class functions) or as
+        Python (the method's ``py_func``).
+    options : dict, optional
+        Passed to ``method.setup``.
+    p_type : numba type, optional
+        The Numba type of ``p``, if known (``numba.typeof`` of a large named tuple costs a
+        fraction of a millisecond).
 
     Returns
     -------
     Segment
     """
-    cls = solver_class(method) if isinstance(method, str) else method
-    options = {"rtol": rtol, "atol": atol, "max_step": max_step}
-    if first_step is not None:
-        options["first_step"] = first_step
-    non_finite = []  # the first time the right-hand side returned NaN or infinity
+    y0 = np.asarray(y0)
+    n = y0.size
+    dtype = y0.dtype if np.iscomplexobj(y0) else np.float64
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    W = np.zeros((method.rows(n), n), dtype=dtype)
+    W[R_Y] = y0
+    W[R_ATOL] = np.broadcast_to(np.asarray(atol, dtype=float), (n,))
+    W[R_RTOL] = np.maximum(np.broadcast_to(np.asarray(rtol, dtype=float), (n,)), 100 * EPS)
+    fst = np.zeros(method.floats)
+    fst[F_T] = t0
+    fst[F_TEND] = t_end
+    fst[F_DIR] = 1.0
+    fst[F_MAXSTEP] = max_step
+    fst[F_RES] = event_resolution or 0.0
+    fst[F_TSTOP] = t0
+    fst[F_TFINAL] = t0
+    ist = np.zeros(method.ints, dtype=np.int64)
+    ist[S_EVENT] = int(event_sign != 0)
+    ist[S_MAXSTEPS] = STEPS_PER_CALL
+    if method.setup is not None:
+        method.setup(W, fst, ist, options or {})
+    out = np.empty((t_eval.size, n), dtype=dtype)
+    sign = -float(event_sign) if event_sign else 1.0
+    if event_sign == 0:
+        event = no_event if compiled else no_event.py_func
+    if compiled:
+        import numba
 
-    def checked(t, y):
-        dy = fun(t, y)
-        if not non_finite and not np.all(np.isfinite(dy)):
-            non_finite.append(t)
-        return dy
-
-    solver = cls(checked, t0, np.asarray(y0, dtype=float), t_end, **options)
-    t_eval = np.asarray(t_eval, dtype=float)
-    ts, ys = [], []
-    i_eval = 0
-    g_old = event(t0, solver.y) if event is not None else None
+        p_type = numba.typeof(p) if p_type is None else p_type
+        sigs = signatures(p_type)
+        args = (first_class(method.init, sigs[2]), first_class(method.step, sigs[3]),
+                first_class(method.dense, sigs[4]), first_class(rhs, sigs[0]), first_class(event, sigs[1]))
+        run = _entry_point(tuple(a.numba_type for a in args) + (p_type,))
+    else:
+        args = tuple(getattr(f, "py_func", f) for f in (method.init, method.step, method.dense)) + (rhs, event)
+        run = advance.py_func
+    chunk = (t_end - t0) * PROGRESS_FRACTION if progress is not None or deadline is not None else np.inf
     status, message = "finished", "reached the end of the interval"
-    t_final, y_final = t0, solver.y.copy()
-    nsteps = 0
     while True:
-        t_old = solver.t
-        msg = solver.step()
-        nsteps += 1
-        if solver.status == "failed":
-            y_last = solver.y_old if solver.y_old is not None else solver.y
-            status, message = "failed", f"{solver.__class__.__name__} failed at t = {t_old:.9g} s: {msg}"
-            if non_finite:
-                message = (f"the right-hand side is not finite at t = {non_finite[0]:.9g} s (a load or the "
-                           f"prescribed motion returned NaN or infinity)")
-            t_final, y_final = t_old, y_last
-            break
-        t_new, y_new = solver.t, solver.y
-        if not np.all(np.isfinite(y_new)):
-            status, message = "failed", f"the state became non-finite at t = {t_new:.9g} s"
-            t_final, y_final = t_old, solver.y_old
-            break
-        sol = None
-        t_stop = t_new
-        if event is not None:
-            g_new = event(t_new, y_new)
-            n_sub = 1
-            if event_resolution is not None and t_new - t_old > event_resolution:
-                n_sub = int(np.ceil((t_new - t_old) / event_resolution))
-            if n_sub > 1 or not g_new > 0.0:
-                sol = solver.dense_output()
-                crossing = _first_crossing(event, sol, t_old, g_old, t_new, g_new, max(n_sub, 2))
-                if crossing is not None:
-                    t_stop = crossing
-                    status, message = "event", f"event at t = {t_stop:.12g} s"
-            g_old = g_new
-        j = np.searchsorted(t_eval, t_stop, side="right")
-        if j > i_eval:
-            sol = sol or solver.dense_output()
-            ts.append(t_eval[i_eval:j])
-            ys.append(np.atleast_2d(sol(t_eval[i_eval:j]).T))
-            i_eval = j
+        fst[F_TPAUSE] = min(fst[F_T] + chunk, t_end)
+        began, steps = time.perf_counter(), ist[S_NSTEPS]
+        code = run(*args, p, sign, t_eval, out, W, fst, ist)
         if progress is not None:
-            progress(t_stop)
-        if status == "event":
-            t_final, y_final = t_stop, (sol(t_stop) if t_stop != t_new else y_new.copy())
-            break
-        if solver.status == "finished":
-            t_final, y_final = t_new, y_new.copy()
-            break
-        if deadline is not None and time.perf_counter() > deadline:
-            status, message = "timeout", f"the wall-time budget ran out at t = {t_new:.9g} s"
-            t_final, y_final = t_new, y_new.copy()
-            break
-    n = len(np.atleast_1d(y0))
+            progress(float(fst[F_TSTOP]))
+        if code == RUNNING:
+            taken = max(int(ist[S_NSTEPS] - steps), 1)
+            elapsed = max(time.perf_counter() - began, 1e-6)
+            ist[S_MAXSTEPS] = int(min(max(taken * CALL_SECONDS / elapsed, 16), 1_000_000))
+            if deadline is not None and time.perf_counter() > deadline:
+                status, message = "timeout", f"the wall-time budget ran out at t = {fst[F_T]:.9g} s"
+                fst[F_TFINAL] = fst[F_T]
+                W[R_YFINAL] = W[R_Y]
+                break
+            continue
+        if code == EVENT:
+            status, message = "event", f"event at t = {fst[F_TFINAL]:.12g} s"
+        elif code == FAILED:
+            status = "failed"
+            if ist[S_FAIL] == FAIL_NONFINITE:
+                message = f"the state became non-finite at t = {fst[F_T]:.9g} s"
+            elif ist[S_FAIL] == FAIL_RHS:
+                message = (f"the right-hand side is not finite just after t = {fst[F_TFINAL]:.9g} s (a load or "
+                           "the prescribed motion returned NaN or infinity)")
+            else:
+                message = f"{method.name} failed at t = {fst[F_TFINAL]:.9g} s: {TOO_SMALL_STEP}"
+        break
+    m = int(ist[S_IEVAL])
     return Segment(
-        t=np.concatenate(ts) if ts else np.empty(0),
-        y=np.concatenate(ys) if ys else np.empty((0, n)),
-        status=status, message=message, t_final=float(t_final), y_final=np.asarray(y_final, float),
-        nfev=solver.nfev, njev=getattr(solver, "njev", 0), nsteps=nsteps,
-        extra={"last_step": float(solver.step_size) if solver.step_size is not None else None},
+        t=t_eval[:m].copy(), y=out[:m], status=status, message=message, t_final=float(fst[F_TFINAL]),
+        y_final=W[R_YFINAL].copy(), t_before=float(fst[F_TBEFORE]) if status == "event" else np.nan,
+        y_before=W[R_YBEFORE].copy() if status == "event" else None, nfev=int(ist[S_NFEV]),
+        nsteps=int(ist[S_NSTEPS]),
+        extra={"last_step": float(fst[F_HSTEP]), "n_rejected": int(ist[S_NREJ]), "compiled": compiled,
+               "t_old": float(fst[F_TOLD])},
     )

@@ -31,7 +31,7 @@ Prismatic Kinematic Pair", J. Vibration and Acoustics, Section 6.
 
 from __future__ import annotations
 
-# Re-exported beyond __all__: RESOLUTIONS, BUILDERS, PrintedModel and the in-memory calibration
+# Re-exported beyond __all__: RESOLUTIONS, BUILDERS and the in-memory calibration
 # cache _CALIBRATIONS, which the tests and earlier code reach as lubelink.paper.NAME.
 from .calibration import (  # noqa: F401
     _CALIBRATIONS,
@@ -42,7 +42,7 @@ from .calibration import (  # noqa: F401
     first_impact_map,
     first_impact_time,
 )
-from .variants import VARIANTS, PrintedModel, simulate_variant  # noqa: F401
+from .variants import VARIANTS, simulate_variant  # noqa: F401
 from .study import Study, lubrication_effect, lubrication_table
 from .figures import BUILDERS, FIGURES, RESOLUTIONS, FigureSet, make_figures  # noqa: F401
 from .animation import animate

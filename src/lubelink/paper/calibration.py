@@ -8,8 +8,7 @@ repeats that over viscosities, and :func:`first_impact_map` tabulates the
 first impact over a grid of viscosity and clearance.
 
 This module and :mod:`lubelink.paper.variants` are the only ones of the
-package that call the simulation core (``build_model``,
-``segment_integrator``) directly.
+package that call the simulation core (``run``) directly.
 """
 
 from __future__ import annotations
@@ -66,24 +65,20 @@ def first_impact_time(config, t_stop=None, motion=None):
     RuntimeError
         If the solver fails.
     """
-    from ..model import build_model
-    from ..simulate import segment_integrator
+    from dataclasses import replace
 
-    model = build_model(config, motion)
+    from ..simulate import run
+
     t_stop = config.solver.t_end if t_stop is None else float(t_stop)
-    segment = segment_integrator(model)  # the integrator lubelink.simulate uses for this configuration
-    seg = segment(0.0, model.initial_state(), t_stop, np.array([t_stop]), phase=None, event_sign=-1,
-                  event_resolution=_event_resolution(model), deadline=None, progress=None)
-    if seg.status == "event":
-        return float(seg.t_final)
-    if seg.status == "finished":
+    # no contact law: the run stops at the first breakdown; one output sample is enough
+    config = replace(config, contact=replace(config.contact, law="none"),
+                     solver=replace(config.solver, t_end=t_stop, output_step=t_stop))
+    result = run(config, motion)
+    if result.status == "film_breakdown":
+        return float(result.event_time)
+    if result.complete:
         return math.inf
-    raise RuntimeError(seg.message)
-
-
-def _event_resolution(model):
-    """Gap sampling interval inside a step [s], as :func:`lubelink.simulate.run` sets it."""
-    return 2.0 * np.pi / model.omega_n[-1] / 8.0
+    raise RuntimeError(result.message)
 
 
 

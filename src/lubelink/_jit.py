@@ -1,0 +1,128 @@
+"""One source for the physics: each function is compiled by Numba or run as plain Python.
+
+Two decorators mark the code that the compiled path executes:
+
+``@jitable``
+    A function written in the subset of Python that Numba compiles (scalars, loops, NumPy
+    arrays). Called from Python it *is* the plain Python function (so the public vectorised API
+    and the ``numpy`` backend run exactly this source); called from compiled code it is compiled
+    into the caller (:func:`numba.extending.register_jitable`).
+``@kernel``
+    An entry point from Python into compiled code (``numba.njit(cache=True)``): the right-hand
+    side, the gap, the integrators' steps, the batched results. ``f.py_func`` is the plain Python
+    function, which calls the plain ``@jitable`` functions: the ``numpy`` backend.
+
+Numba's on-disk cache keys a compiled function on the source of its own file only, so an edit of
+a ``@jitable`` function in another module would leave stale machine code behind. lubelink's
+functions are therefore cached under a stamp of every source file of the package that holds
+compiled code (:func:`package_stamp`), through a cache locator that serves lubelink's functions
+only.
+
+Setting ``LUBELINK_DISABLE_JIT=1`` (or running without Numba) makes both decorators plain Python.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import warnings
+from functools import lru_cache
+from pathlib import Path
+
+__all__ = ["jitable", "kernel", "ENABLED", "package_stamp", "NumbaUnavailable"]
+
+_PACKAGE = Path(__file__).resolve().parent
+_MARKERS = (b"@jitable", b"@kernel")
+
+try:
+    if os.environ.get("LUBELINK_DISABLE_JIT", "") not in ("", "0"):
+        raise ImportError("LUBELINK_DISABLE_JIT is set")
+    import numba
+    from numba.core.errors import NumbaIRAssumptionWarning
+    from numba.extending import register_jitable
+except ImportError as exc:  # pragma: no cover - exercised by the no-Numba CI-less fallback
+    numba = None
+    _WHY = str(exc)
+else:
+    _WHY = ""
+    # Numba's pedantic SSA check flags variables of inlined functions ("not in scope"): harmless
+    warnings.filterwarnings("ignore", category=NumbaIRAssumptionWarning)
+
+#: Whether kernels are compiled (Numba importable and not disabled).
+ENABLED = numba is not None
+
+
+class NumbaUnavailable(RuntimeError):
+    """The compiled path was asked for where Numba is missing or disabled."""
+
+
+@lru_cache(maxsize=1)
+def package_stamp() -> bytes:
+    """SHA-256 of every source file of the package that holds ``@jitable`` or ``@kernel`` code."""
+    digest = hashlib.sha256()
+    for path in sorted(_PACKAGE.rglob("*.py")):
+        data = path.read_bytes()
+        if any(m in data for m in _MARKERS):
+            digest.update(str(path.relative_to(_PACKAGE)).encode())
+            digest.update(data)
+    return digest.digest()
+
+
+class _PyKernel:
+    """A kernel that is plain Python (Numba missing or disabled): ``f(...)`` and ``f.py_func(...)``."""
+
+    def __init__(self, func):
+        self.py_func = func
+        self.__name__ = func.__name__
+        self.__doc__ = func.__doc__
+        self.__wrapped__ = func
+
+    def __call__(self, *args):
+        return self.py_func(*args)
+
+
+def jitable(func=None, *, inline=False):
+    """Mark ``func`` as compilable into kernels; from Python it stays the plain function.
+
+    ``inline=True`` inlines it into its callers at compile time (for small functions called in
+    hot loops with large arguments, which a call would copy).
+    """
+    if func is None:
+        return lambda f: jitable(f, inline=inline)
+    if ENABLED:
+        register_jitable(inline="always" if inline else "never")(func)
+    return func
+
+
+def kernel(func):
+    """A compiled entry point, cached on disk under :func:`package_stamp`; ``.py_func`` is the source."""
+    if not ENABLED:
+        return _PyKernel(func)
+    _install_locators()
+    return numba.njit(cache=True)(func)
+
+
+@lru_cache(maxsize=1)
+def _install_locators():
+    """Put lubelink's cache locators first in Numba's list (they decline every other function)."""
+    try:
+        from numba.core import caching
+    except ImportError:  # pragma: no cover
+        return
+
+    class _Stamped:
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            if not getattr(py_func, "__module__", "").startswith("lubelink"):
+                return None
+            return super().from_function(py_func, py_file)
+
+        def get_source_stamp(self):
+            return package_stamp()
+
+    bases = [getattr(caching, name, None) for name in
+             ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator")]
+    locators = [type(f"_Lubelink{b.__name__}", (_Stamped, b), {}) for b in bases if b is not None]
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
+    if impl is not None and len(locators) == 3:
+        impl._locator_classes = locators + [c for c in impl._locator_classes if c not in locators]

@@ -1,0 +1,409 @@
+"""Exponential Runge-Kutta integrator for damped oscillators with a nonlinear load.
+
+Problems of the form, with the state ``y = (x_1..x_N, v_1..v_N)``::
+
+    x_i' = v_i,    v_i' = -omega_i^2 x_i - 2 zeta_i omega_i v_i + g_i(t, y),
+
+i.e. ``y' = A y + G(t, y)`` with ``A`` block diagonal (one 2x2 block per oscillator). The linear
+part is integrated exactly, through the functions ``phi_k(z) = sum_j z^j / (j + k)!`` of the
+2x2 blocks (closed forms below), and the load ``G = f - A y`` explicitly, so the step is set by how
+fast ``G`` varies along the solution, not by the largest ``omega_i``. The right-hand side is the
+usual ``f(t, y)``; the method subtracts ``A y`` itself (``omega``, ``zeta`` are given at set-up), so
+it knows nothing else of the problem.
+
+Method
+------
+The five-stage exponential Runge-Kutta method of order four of Hochbruck & Ostermann
+(*Explicit exponential Runge-Kutta methods for semilinear parabolic problems*, SIAM J. Numer.
+Anal. 43 (2005) 1069-1090; also *Exponential integrators*, Acta Numerica 19 (2010) 209-286,
+Section 2.3), with nodes ``c = (0, 1/2, 1/2, 1, 1/2)`` and ``phi_{k,i} = phi_k(c_i h A)``::
+
+    U_i     = exp(c_i h A) y_n + h sum_j a_ij(hA) G_j,        G_j = G(t_n + c_j h, U_j)
+    y_{n+1} = exp(h A) y_n + h [(phi_1 - 3 phi_2 + 4 phi_3) G_1 + (4 phi_3 - phi_2) G_4
+                                + (4 phi_2 - 8 phi_3) G_5]
+
+(the stage coefficients in :func:`_stages`). Stages 2 and 3 are each accurate to first order
+only, but their errors cancel in ``G_2 + G_3``.
+
+Error estimate and dense output. Two estimates, the larger of which controls the step (as in
+SciPy, exponent ``-1/4``):
+
+* the stages': Krogstad's third-order weights, ``(2 phi_2 - 4 phi_3)`` on ``G_2`` and on
+  ``G_3``, differ from the step's by ``h (2 phi_2 - 4 phi_3)(hA) (2 G_5 - G_2 - G_3)``. It sees
+  the error of the internal stages through the load's dependence on the state only: for a load
+  that depends on time only (here the rigid-body inertia, the dominant load) it is exactly zero;
+* the quadrature's: the load is interpolated by a cubic in time through ``G`` at the start, at
+  ``1/4`` and ``1/2`` of the step (on the third-order continuous extension) and at the new state,
+  and the variation-of-constants formula integrated exactly with it; its difference to the step
+  is ``O(h^5)``, like the step's error. This cubic is also the dense output, of order four.
+
+``G_1`` of a step is the load at the end of the previous one, so an accepted step costs seven
+evaluations: four stages, the new state, and the two interpolation points.
+
+The phi-functions of a block
+----------------------------
+For ``M = c h A_i``, with eigenvalues ``l1, l2 = c h omega (-zeta +- sqrt(zeta^2 - 1))``, any
+analytic ``f`` gives ``f(M) = a I + b M`` with ``b = (f(l1) - f(l2)) / (l1 - l2)`` and
+``a = f(l1) - b l1`` (Cayley-Hamilton), real for the conjugate eigenvalues of an underdamped
+block. Near a double eigenvalue (critical damping, ``omega = 0``) the divided difference is
+replaced by ``f'(mu) = phi_k(mu) - k phi_{k+1}(mu)`` at the mean eigenvalue. ``phi_k(z)`` is
+summed as a series for ``|z| < 1`` and from ``exp(z)`` by ``phi_{k+1} = (phi_k - 1/k!) / z``
+otherwise, so small and large ``h omega`` are both accurate.
+"""
+
+import math
+
+import numpy as np
+
+from .._jit import jitable, kernel
+from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TEND, F_TOLD, FAIL_RHS, R_F, R_METHOD, R_Y,
+                      R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
+from .control import MIN_FACTOR, initial_step, scaled_rms, step_factor
+
+__all__ = ["init", "step", "dense", "rows", "setup", "phi_functions", "phi_block"]
+
+ORDER = 4
+_FACTORIAL = (1.0, 1.0, 2.0, 6.0, 24.0)
+
+R_LIN = R_METHOD  # [omega_1..omega_N, zeta_1..zeta_N]
+R_G = R_LIN + 1  # G_1 ... G_5 (G_1 also of the last accepted step, for the dense output)
+R_U = R_G + 5  # a stage state
+R_FU = R_U + 1  # f at a stage
+R_YNEW = R_FU + 1
+R_ERR = R_YNEW + 1
+R_GNEW = R_ERR + 1  # G at the new state of an attempted step
+R_Q = R_GNEW + 1  # the cubic for G over the last step, in powers of sigma = (t - t_n) / h: 4 rows
+R_HALF = R_Q + 4  # phi_0..phi_3 of (h/2) A: rows [a_1..a_N, b_1..b_N]
+R_ONE = R_HALF + 4  # phi_0..phi_4 of h A
+R_THETA = R_ONE + 5  # phi_0..phi_4 of theta h A (dense output)
+ROWS_END = R_THETA + 5
+FLOATS = F_METHOD + 1
+F_HOLD = F_METHOD  # the step the R_HALF, R_ONE tables were made for
+
+
+def rows(n):
+    """Rows of ``W`` this method uses."""
+    return ROWS_END
+
+
+def setup(W, fst, ist, options):
+    """The linear part: ``options["omega"]`` [rad/s] and ``options["zeta"]`` [-], one per oscillator."""
+    n = W.shape[1]
+    omega = np.asarray(options["omega"], dtype=float)
+    zeta = np.broadcast_to(np.asarray(options.get("zeta", 0.0), dtype=float), omega.shape)
+    if n != 2 * omega.size:
+        raise ValueError(f"the exponential method needs a state of 2 N = {2 * omega.size} components, got {n}")
+    W[R_LIN, :omega.size] = omega
+    W[R_LIN, omega.size:] = zeta
+
+
+@jitable
+def phi_functions(z, out):
+    """``phi_0(z) ... phi_{K-1}(z)`` into ``out`` (``K = out.size``, complex ``z``)."""
+    K = out.shape[0]
+    if abs(z) < 1.0:
+        top = K - 1
+        s = 0.0 + 0.0j
+        term = 1.0 + 0.0j  # z^j / (j + top)!
+        for k in range(1, top + 1):
+            term /= k
+        for j in range(24):  # |z|^24 / 24! < 2e-24: converged well before
+            s += term
+            term *= z / (j + top + 1)
+            if abs(term) < 1e-17 * abs(s):
+                break
+        out[top] = s
+        for k in range(top - 1, -1, -1):
+            out[k] = z * out[k + 1] + 1.0 / _FACTORIAL[k]
+        return
+    out[0] = np.exp(z)
+    for k in range(K - 1):
+        out[k + 1] = (out[k] - 1.0 / _FACTORIAL[k]) / z
+
+
+@jitable
+def phi_block(omega, zeta, ch, out_a, out_b):
+    """``phi_k(M) = a_k I + b_k M`` for ``M = ch [[0, 1], [-omega^2, -2 zeta omega]]``, ``k < out_a.size``."""
+    K = out_a.shape[0]
+    r = np.sqrt(complex(zeta * zeta - 1.0))
+    l1 = ch * omega * (-zeta + r)
+    l2 = ch * omega * (-zeta - r)
+    f1 = np.empty(K + 1, dtype=np.complex128)
+    f2 = np.empty(K + 1, dtype=np.complex128)
+    if abs(l1 - l2) > 1e-7 * max(1.0, abs(l1)):
+        phi_functions(l1, f1)
+        if zeta < 1.0:  # conjugate eigenvalues of a real matrix: phi_k(l2) = conj(phi_k(l1))
+            for k in range(K):
+                f2[k] = f1[k].conjugate()
+        else:
+            phi_functions(l2, f2)
+        for k in range(K):
+            b = (f1[k] - f2[k]) / (l1 - l2)
+            out_b[k] = b.real
+            out_a[k] = (f1[k] - b * l1).real
+        return
+    mu = 0.5 * (l1 + l2)
+    phi_functions(mu, f1)
+    for k in range(K):
+        d = f1[k] - k * f1[k + 1]  # phi_k' = phi_k - k phi_{k+1}
+        out_b[k] = d.real
+        out_a[k] = (f1[k] - d * mu).real
+
+
+@jitable
+def _tables(W, h, c, row, K):
+    """Rows ``row .. row + K - 1``: ``phi_k(c h A)`` of every block, as ``[a_1..a_N, b_1..b_N]``."""
+    N = W.shape[1] // 2
+    a = np.empty(K)
+    b = np.empty(K)
+    for i in range(N):
+        phi_block(W[R_LIN, i], W[R_LIN, N + i], c * h, a, b)
+        for k in range(K):
+            W[row + k, i] = a[k]
+            W[row + k, N + i] = b[k] * c * h  # absorb c h: phi_k = a I + b' A
+    return
+
+
+@jitable
+def _apply(W, row, src, dst, scale):
+    """``dst += scale * phi(c h A) src`` for the table in row ``row``."""
+    N = W.shape[1] // 2
+    for i in range(N):
+        om = W[R_LIN, i]
+        x = src[i]
+        v = src[N + i]
+        a = W[row, i]
+        b = W[row, N + i]
+        dst[i] += scale * (a * x + b * v)
+        dst[N + i] += scale * (a * v + b * (-om * om * x - 2.0 * W[R_LIN, N + i] * om * v))
+
+
+@jitable
+def _load(W, y, f, out):
+    """``G = f - A y``."""
+    N = W.shape[1] // 2
+    for i in range(N):
+        om = W[R_LIN, i]
+        out[i] = f[i] - y[N + i]
+        out[N + i] = f[N + i] + om * om * y[i] + 2.0 * W[R_LIN, N + i] * om * y[N + i]
+
+
+@jitable
+def _stage(rhs, p, W, ist, t, row_g):
+    """``G = G(t, U)`` of the stage state ``W[R_U]`` into row ``row_g``."""
+    rhs(t, W[R_U], W[R_FU], p)
+    ist[S_NFEV] += 1
+    _load(W, W[R_U], W[R_FU], W[row_g])
+
+
+@jitable
+def _stages(rhs, p, W, ist, t, h):
+    """Stages 2 to 5 of the Hochbruck-Ostermann method, ``y_{n+1}`` into ``R_YNEW``, the error estimate into ``R_ERR``."""
+    n = W.shape[1]
+    y = W[R_Y]
+    G1, G2, G3, G4, G5 = R_G, R_G + 1, R_G + 2, R_G + 3, R_G + 4
+    H0, H1, H2, H3 = R_HALF, R_HALF + 1, R_HALF + 2, R_HALF + 3
+    O0, O1, O2, O3 = R_ONE, R_ONE + 1, R_ONE + 2, R_ONE + 3
+    U = W[R_U]
+    # U_2 = phi_0(h/2) y + h/2 phi_1(h/2) G_1
+    U[:] = 0.0
+    _apply(W, H0, y, U, 1.0)
+    _apply(W, H1, W[G1], U, 0.5 * h)
+    _stage(rhs, p, W, ist, t + 0.5 * h, G2)
+    # U_3 = phi_0(h/2) y + h [(phi_1(h/2)/2 - phi_2(h/2)) G_1 + phi_2(h/2) G_2]
+    U[:] = 0.0
+    _apply(W, H0, y, U, 1.0)
+    _apply(W, H1, W[G1], U, 0.5 * h)
+    for m in range(n):
+        W[R_ERR, m] = W[G2, m] - W[G1, m]
+    _apply(W, H2, W[R_ERR], U, h)
+    _stage(rhs, p, W, ist, t + 0.5 * h, G3)
+    # U_4 = phi_0(h) y + h [(phi_1(h) - 2 phi_2(h)) G_1 + phi_2(h) (G_2 + G_3)]
+    U[:] = 0.0
+    _apply(W, O0, y, U, 1.0)
+    _apply(W, O1, W[G1], U, h)
+    for m in range(n):
+        W[R_ERR, m] = W[G2, m] + W[G3, m] - 2.0 * W[G1, m]
+    _apply(W, O2, W[R_ERR], U, h)
+    _stage(rhs, p, W, ist, t + h, G4)
+    # U_5 = phi_0(h/2) y + h [phi_1(h/2)/2 G_1 + phi_2(h/2)/4 (G_4 - G_1) + a_52 D],
+    # D = G_2 + G_3 - G_1 - G_4, a_52 = phi_2(h/2)/2 - phi_3(h/2)/2 + phi_2(h)/4 - phi_3(h)
+    U[:] = 0.0
+    _apply(W, H0, y, U, 1.0)
+    _apply(W, H1, W[G1], U, 0.5 * h)
+    for m in range(n):
+        W[R_ERR, m] = W[G4, m] - W[G1, m]
+    _apply(W, H2, W[R_ERR], U, 0.25 * h)
+    for m in range(n):
+        W[R_ERR, m] = W[G2, m] + W[G3, m] - W[G1, m] - W[G4, m]
+    _apply(W, H2, W[R_ERR], U, 0.5 * h)
+    _apply(W, H3, W[R_ERR], U, -0.5 * h)
+    _apply(W, O2, W[R_ERR], U, 0.25 * h)
+    _apply(W, O3, W[R_ERR], U, -h)
+    _stage(rhs, p, W, ist, t + 0.5 * h, G5)
+    # y_new = phi_0(h) y + h [(phi_1 - 3 phi_2 + 4 phi_3) G_1 + (4 phi_3 - phi_2) G_4 + (4 phi_2 - 8 phi_3) G_5]
+    ynew = W[R_YNEW]
+    ynew[:] = 0.0
+    _apply(W, O0, y, ynew, 1.0)
+    _apply(W, O1, W[G1], ynew, h)
+    for m in range(n):
+        W[R_ERR, m] = -3.0 * W[G1, m] - W[G4, m] + 4.0 * W[G5, m]
+    _apply(W, O2, W[R_ERR], ynew, h)
+    for m in range(n):
+        W[R_ERR, m] = 4.0 * W[G1, m] + 4.0 * W[G4, m] - 8.0 * W[G5, m]
+    _apply(W, O3, W[R_ERR], ynew, h)
+    # error estimate h (2 phi_2 - 4 phi_3)(h) (2 G_5 - G_2 - G_3), into R_ERR
+    for m in range(n):
+        W[R_U, m] = 2.0 * W[G5, m] - W[G2, m] - W[G3, m]
+        W[R_ERR, m] = 0.0
+    _apply(W, O2, W[R_U], W[R_ERR], 2.0 * h)
+    _apply(W, O3, W[R_U], W[R_ERR], -4.0 * h)
+
+
+@jitable
+def _extension3(W, h, theta, r_y, r_g1, r_g4, r_g5, out):
+    """Third-order continuous extension of a step at ``theta``, into ``out``.
+
+    ``y(t_n + theta h) = phi_0(theta h A) y_n + h [b_1(theta) G_1 + b_4(theta) G_4 + b_5(theta) G_5]``
+    with ``b_5 = 4 theta^2 phi_2 - 8 theta^3 phi_3``, ``b_4 = 4 theta^3 phi_3 - theta^2 phi_2``,
+    ``b_1 = theta phi_1 - b_4 - b_5`` (``phi_k = phi_k(theta h A)``): the conditions of order
+    three at ``theta``, and the step's weights at ``theta = 1``. Rows ``r_*`` hold ``y_n`` and
+    the stage loads.
+    """
+    n = W.shape[1]
+    _tables(W, h, theta, R_THETA, 4)
+    out[:] = 0.0
+    _apply(W, R_THETA, W[r_y], out, 1.0)
+    _apply(W, R_THETA + 1, W[r_g1], out, theta * h)
+    for m in range(n):  # the phi_2 terms: theta^2 (-3 G_1 - G_4 + 4 G_5)
+        W[R_U, m] = theta * theta * (-3.0 * W[r_g1, m] - W[r_g4, m] + 4.0 * W[r_g5, m])
+    _apply(W, R_THETA + 2, W[R_U], out, h)
+    for m in range(n):  # the phi_3 terms: theta^3 (4 G_1 + 4 G_4 - 8 G_5)
+        W[R_U, m] = theta**3 * (4.0 * W[r_g1, m] + 4.0 * W[r_g4, m] - 8.0 * W[r_g5, m])
+    _apply(W, R_THETA + 3, W[R_U], out, h)
+
+
+#: Monomial coefficients of the cubic through ``sigma = 1/4, 1/2, 1`` (values minus the one at 0).
+_CUBIC = np.linalg.inv(np.array([[s, s * s, s**3] for s in (0.25, 0.5, 1.0)]))
+
+
+@jitable
+def _load_cubic(rhs, p, W, ist, t, h):
+    """The cubic ``G(t_n + sigma h) ~ sum_k Q_k sigma^k`` of the attempted step, into ``R_Q``.
+
+    Through ``G`` at ``sigma = 0`` (``G_1``), ``1`` (``G`` of the new state, the next step's
+    ``G_1``, left in ``R_GNEW``) and at ``1/4`` and ``1/2`` on the third-order extension: three
+    evaluations. Its interpolation error is ``O(h^4)``.
+    """
+    n = W.shape[1]
+    rhs(t + h, W[R_YNEW], W[R_FU], p)
+    ist[S_NFEV] += 1
+    _load(W, W[R_YNEW], W[R_FU], W[R_GNEW])
+    for j in range(2):
+        sigma = 0.25 * (j + 1)
+        _extension3(W, h, sigma, R_Y, R_G, R_G + 3, R_G + 4, W[R_ERR])
+        rhs(t + sigma * h, W[R_ERR], W[R_FU], p)
+        ist[S_NFEV] += 1
+        _load(W, W[R_ERR], W[R_FU], W[R_Q + 1 + j])
+    for m in range(n):
+        g0 = W[R_G, m]
+        d1 = W[R_Q + 1, m] - g0
+        d2 = W[R_Q + 2, m] - g0
+        d3 = W[R_GNEW, m] - g0
+        W[R_Q, m] = g0
+        W[R_Q + 1, m] = _CUBIC[0, 0] * d1 + _CUBIC[0, 1] * d2 + _CUBIC[0, 2] * d3
+        W[R_Q + 2, m] = _CUBIC[1, 0] * d1 + _CUBIC[1, 1] * d2 + _CUBIC[1, 2] * d3
+        W[R_Q + 3, m] = _CUBIC[2, 0] * d1 + _CUBIC[2, 1] * d2 + _CUBIC[2, 2] * d3
+
+
+@jitable
+def _cubic_solution(W, h, row_phi, r_y, theta, out):
+    """``phi_0(theta h A) y + h sum_k k! theta^(k+1) phi_(k+1)(theta h A) Q_k`` into ``out``.
+
+    The variation-of-constants formula with the load replaced by its cubic ``R_Q``, integrated
+    exactly (``int_0^tau exp((tau - s) A) s^k ds = k! tau^(k+1) phi_(k+1)(tau A)``); ``row_phi``
+    holds ``phi_0 .. phi_4`` of ``theta h A``.
+    """
+    out[:] = 0.0
+    _apply(W, row_phi, W[r_y], out, 1.0)
+    factorial = 1.0
+    for k in range(4):
+        _apply(W, row_phi + k + 1, W[R_Q + k], out, factorial * theta ** (k + 1) * h)
+        factorial *= k + 1
+
+
+@kernel
+def init(rhs, p, W, fst, ist):
+    """``f(t0, y0)``, ``G_1`` and the starting step."""
+    rhs(fst[F_T], W[R_Y], W[R_F], p)
+    ist[S_NFEV] += 1
+    _load(W, W[R_Y], W[R_F], W[R_G])
+    fst[F_HOLD] = np.nan
+    fst[F_H] = initial_step(rhs, p, W, fst, ist, ORDER, W[R_U], W[R_FU])
+
+
+@kernel
+def step(rhs, p, W, fst, ist):
+    """One accepted step (seven evaluations); False if the step size underflows.
+
+    The error is estimated twice: the stages' (``h (2 phi_2 - 4 phi_3)(hA) (2 G_5 - G_2 - G_3)``,
+    the difference to Krogstad's third-order weights, blind to a load that depends on time only)
+    and the quadrature's (the difference to the step integrated with the cubic interpolant of the
+    load, :func:`_load_cubic`, which is also the dense output); the larger decides.
+    """
+    n = W.shape[1]
+    t = fst[F_T]
+    direction = fst[F_DIR]
+    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    h_abs = min(fst[F_H], fst[F_MAXSTEP])
+    rejected = False
+    while True:
+        if h_abs < min_step:
+            return False
+        t_new = t + direction * h_abs
+        if direction * (t_new - fst[F_TEND]) > 0.0:
+            t_new = fst[F_TEND]
+        h = t_new - t
+        if h != fst[F_HOLD]:
+            _tables(W, h, 0.5, R_HALF, 4)
+            _tables(W, h, 1.0, R_ONE, 5)
+            fst[F_HOLD] = h
+        _stages(rhs, p, W, ist, t, h)
+        err = scaled_rms(W[R_ERR], W[R_Y], W[R_YNEW], W)
+        _load_cubic(rhs, p, W, ist, t, h)
+        _cubic_solution(W, h, R_ONE, R_Y, 1.0, W[R_ERR])
+        for m in range(n):
+            W[R_ERR, m] -= W[R_YNEW, m]
+        err = max(err, scaled_rms(W[R_ERR], W[R_Y], W[R_YNEW], W))
+        if not np.isfinite(err):  # NaN or infinity in the stages: shrink, and say so if it underflows
+            ist[S_FAIL] = FAIL_RHS
+            err = 1.0 / MIN_FACTOR ** ORDER
+        factor = step_factor(err, ORDER - 1, rejected)
+        h_abs = abs(h) * factor
+        if err < 1.0:
+            ist[S_FAIL] = 0
+            break
+        rejected = True
+        ist[S_NREJ] += 1
+    for m in range(n):
+        W[R_YOLD, m] = W[R_Y, m]
+        W[R_Y, m] = W[R_YNEW, m]
+        W[R_G, m] = W[R_GNEW, m]  # the next step's G_1
+    fst[F_TOLD] = t
+    fst[F_HSTEP] = h
+    fst[F_T] = t_new
+    fst[F_H] = h_abs
+    ist[S_DENSE] = 1
+    return True
+
+
+@kernel
+def dense(rhs, p, W, fst, ist, t, out):
+    """Fourth-order dense output of the last step at ``t`` (:func:`_cubic_solution`), into ``out``."""
+    h = fst[F_HSTEP]
+    theta = (t - fst[F_TOLD]) / h
+    if theta == 0.0:
+        out[:] = W[R_YOLD]
+        return
+    _tables(W, h, theta, R_THETA, 5)
+    _cubic_solution(W, h, R_THETA, R_YOLD, theta, out)

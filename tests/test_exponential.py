@@ -1,0 +1,194 @@
+"""The exponential integrator against independent references.
+
+* the phi-functions of a 2x2 oscillator block against the matrix exponential of an augmented
+  matrix (``phi_k(M)`` is a block of ``expm([[M, I, 0], [0, 0, I], ...])``, Saad 1992), for small
+  and large ``h omega``, undamped, damped, critically damped and overdamped;
+* a free damped oscillator is integrated exactly, whatever the step;
+* order four, fixed steps, on a forced oscillator with a nonlinear load (the fitted slope);
+* the dense output of order four (local error ~ h^5);
+* with adaptive steps, the error follows the tolerance and the number of steps does not grow with
+  the stiffest frequency (the point of the method).
+"""
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from lubelink._jit import kernel
+from lubelink.integrate import exponential as E
+from lubelink.integrate import integrate, method
+from lubelink.integrate._layout import F_DIR, F_MAXSTEP, F_T, F_TEND, R_ATOL, R_F, R_RTOL, R_Y
+
+
+def phi_reference(M, k):
+    """``phi_k(M)`` from the exponential of the augmented matrix ``[[M, I, 0..], [0, 0, I..], ..., 0]``."""
+    n = M.shape[0]
+    big = np.zeros((n * (k + 1), n * (k + 1)))
+    big[:n, :n] = M
+    for j in range(k):
+        big[n * j:n * (j + 1), n * (j + 1):n * (j + 2)] = np.eye(n) if j == 0 else 0.0
+    for j in range(1, k):
+        big[n * j:n * (j + 1), n * (j + 1):n * (j + 2)] = np.eye(n)
+    return expm(big)[:n, n * k:n * (k + 1)] if k else expm(M)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.05, 0.7, 1.0, 2.5])
+@pytest.mark.parametrize("h_omega", [1e-6, 0.3, 2.0, 40.0])
+def test_phi_functions_of_a_block_against_the_augmented_exponential(zeta, h_omega):
+    omega = 150.0
+    ch = h_omega / omega
+    A = np.array([[0.0, 1.0], [-omega**2, -2 * zeta * omega]])
+    a, b = np.empty(5), np.empty(5)
+    E.phi_block(omega, zeta, ch, a, b)
+    for k in range(5):
+        got = a[k] * np.eye(2) + b[k] * ch * A
+        want = phi_reference(ch * A, k)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * max(1.0, np.abs(want).max()))
+
+
+def test_phi_functions_of_a_rigid_mode():
+    """``omega = 0``: the block is nilpotent, ``phi_k(M) = I/k! + M/(k+1)!``."""
+    a, b = np.empty(5), np.empty(5)
+    E.phi_block(0.0, 0.0, 0.01, a, b)
+    fact = [1, 1, 2, 6, 24, 120]
+    np.testing.assert_allclose(a, [1 / fact[k] for k in range(5)], rtol=1e-15)
+
+
+# --------------------------------------------------------------------------------------------------
+@kernel
+def forced(t, y, out, p):
+    """Oscillators ``x'' + 2 zeta w x' + w^2 x = g(t, x)``; ``p = [zeta, eps, Omega, w_1 .. w_N]``.
+
+    ``g = cos(Omega t) + eps x^2`` (a weak nonlinearity), the same for every oscillator.
+    """
+    N = y.shape[0] // 2
+    for i in range(N):
+        w = p[3 + i]
+        x, v = y[i], y[N + i]
+        out[i] = v
+        out[N + i] = -w * w * x - 2 * p[0] * w * v + np.cos(p[2] * t) + p[1] * x * x
+
+
+@kernel
+def no_event(t, y, p):
+    return 1.0, 0.0
+
+
+def run_exp(p, t_end, rtol=1e-8, atol=1e-12, t_eval=None, **kw):
+    omegas = p[3:]
+    return integrate(method("exponential"), forced, no_event, np.asarray(p, float), 0.0, np.zeros(2 * len(omegas)),
+                     t_end, np.zeros(0) if t_eval is None else t_eval, rtol=rtol, atol=atol,
+                     options={"omega": omegas, "zeta": p[0]}, **kw)
+
+
+def free_exact(t, w, zeta, x0, v0):
+    wd = w * np.sqrt(1 - zeta**2)
+    e = np.exp(-zeta * w * t)
+    x = e * (x0 * np.cos(wd * t) + (v0 + zeta * w * x0) / wd * np.sin(wd * t))
+    return x
+
+
+def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
+    w, zeta = 300.0, 0.02
+
+    @kernel
+    def free(t, y, out, p):
+        out[0] = y[1]
+        out[1] = -p[0] ** 2 * y[0] - 2 * p[1] * p[0] * y[1]
+
+    seg = integrate(method("exponential"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]), 2.0,
+                    np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
+    # the load is zero: the error estimates vanish and the step grows tenfold each time
+    assert seg.nsteps < 12
+    np.testing.assert_allclose(seg.y[:, 0], free_exact(seg.t, w, zeta, 1e-3, 0.0), rtol=0, atol=1e-15)
+
+
+def fixed_steps(h, t_end, p):
+    """Integrate with the kernels in fixed steps of ``h`` (no step control)."""
+    n = 2 * (len(p) - 3)
+    W = np.zeros((E.rows(n), n))
+    fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
+    E.setup(W, fst, ist, {"omega": p[3:], "zeta": p[0]})
+    W[R_ATOL], W[R_RTOL] = 1.0, 1.0
+    fst[F_DIR], fst[F_TEND], fst[F_MAXSTEP] = 1.0, t_end, np.inf
+    E.init(forced, p, W, fst, ist)
+    t = 0.0
+    for _ in range(int(round(t_end / h))):
+        E._tables(W, h, 0.5, E.R_HALF, 4)
+        E._tables(W, h, 1.0, E.R_ONE, 5)
+        E._stages(forced, p, W, ist, t, h)
+        W[R_Y] = W[E.R_YNEW]
+        t += h
+        forced(t, W[R_Y], W[R_F], p)
+        E._load(W, W[R_Y], W[R_F], W[E.R_G])
+    return W[R_Y].copy()
+
+
+def test_order_four_with_fixed_steps():
+    """Two oscillators (w = 50 and 3000: h w up to 30), cos forcing and a weak quadratic load."""
+    p = np.array([0.01, 2.0, 3.0, 50.0, 3000.0])
+    ref = run_exp(p, 1.0, rtol=1e-13, atol=1e-18).y_final
+    hs = 1.0 / np.array([10, 20, 40, 80])
+    errors = [np.max(np.abs(fixed_steps(h, 1.0, p) - ref)) for h in hs]
+    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
+    assert 3.8 < slope < 4.6, (errors, slope)
+
+
+def test_dense_output_is_of_order_four():
+    """One step of size h from an exact state: the interpolant's error inside the step is ~h^5."""
+    from lubelink.integrate._layout import F_H, F_HSTEP, F_TOLD, R_YOLD, S_DENSE
+
+    p = np.array([0.0, 2.0, 3.0, 50.0])
+    t0 = 0.3
+    hs = np.array([0.08, 0.04, 0.02, 0.01])
+    grid = np.concatenate([[t0 + 0.37 * h, t0 + 0.5 * h, t0 + 0.81 * h] for h in hs] + [[t0]])
+    order = np.argsort(grid)
+    ref = np.empty((grid.size, 2))
+    ref[order] = run_exp(p, grid.max(), rtol=1e-13, atol=1e-18, t_eval=grid[order]).y
+    y0 = ref[-1]
+    errors = []
+    for k, h in enumerate(hs):
+        W = np.zeros((E.rows(2), 2))
+        fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
+        E.setup(W, fst, ist, {"omega": p[3:], "zeta": p[0]})
+        W[R_Y], W[R_ATOL], W[R_RTOL] = y0, 1e3, 1e3  # accept whatever the error
+        fst[F_DIR], fst[F_TEND], fst[F_MAXSTEP], fst[F_T] = 1.0, t0 + h, h, t0
+        E.init(forced, p, W, fst, ist)
+        fst[F_H] = h
+        assert E.step(forced, p, W, fst, ist) and fst[F_HSTEP] == pytest.approx(h)
+        out = np.empty(2)
+        err = 0.0
+        for j, theta in enumerate((0.37, 0.5, 0.81)):
+            E.dense(forced, p, W, fst, ist, t0 + theta * h, out)
+            err = max(err, abs(out[0] - ref[3 * k + j, 0]))
+        errors.append(err)
+    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
+    assert slope > 4.5, (errors, slope)
+
+
+def test_error_follows_the_tolerance():
+    p = np.array([0.01, 2.0, 3.0, 50.0, 400.0])
+    ref = run_exp(p, 2.0, rtol=1e-13, atol=1e-18, t_eval=np.linspace(0.1, 2.0, 20)).y
+    ratios = []
+    for rtol in (1e-6, 1e-8, 1e-10):
+        seg = run_exp(p, 2.0, rtol=rtol, atol=rtol * 1e-4, t_eval=np.linspace(0.1, 2.0, 20))
+        scale = np.abs(ref).max(axis=0)
+        ratios.append(np.max(np.abs(seg.y - ref) / scale) / rtol)
+    assert max(ratios) < 100 and max(ratios) / min(ratios) < 100, ratios
+
+
+def test_the_steps_do_not_follow_the_stiffest_frequency():
+    """Raising the highest frequency 100-fold does not raise the number of steps (DOP853's grows 15-fold).
+
+    The absolute tolerance is set to the soft oscillator's scale (its response is 1e-2, the stiff
+    one's 1e-8): a much smaller one asks the stiff oscillator for a relative accuracy that makes
+    the step follow its 1e-8 response instead (measured with atol 1e-14: 274, 1432, 2135 steps).
+    """
+    steps, dop = [], []
+    for w_max in (1e2, 1e4):
+        p = np.array([0.01, 0.0, 3.0, 10.0, w_max])
+        steps.append(run_exp(p, 2.0, rtol=1e-8, atol=1e-10).nsteps)
+        dop.append(integrate(method("DOP853"), forced, no_event, p, 0.0, np.zeros(4), 2.0, np.zeros(0), rtol=1e-8,
+                             atol=1e-10).nsteps)
+    assert steps[1] <= 1.2 * steps[0], steps  # measured 186, 84
+    assert dop[1] > 10 * dop[0], dop  # measured 276, 4177: its stability bound
