@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from .._jit import jitable
+from lubelink._jit import jitable
 from ._layout import F_DIR, F_MAXSTEP, F_T, F_TEND, R_ATOL, R_F, R_RTOL, R_Y, S_NFEV
 
 __all__ = ["scaled_rms", "step_factor", "initial_step", "SAFETY", "MIN_FACTOR", "MAX_FACTOR"]

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from .._jit import jitable, kernel
+from lubelink._jit import jitable, kernel
 from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD, R_METHOD,
                       R_RTOL, R_Y, R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
 from .control import MAX_FACTOR, MIN_FACTOR, SAFETY, initial_step

@@ -28,7 +28,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._jit import ENABLED, kernel
+from lubelink._jit import ENABLED, kernel
 from ._layout import (EVENT, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, F_RES, F_T, F_TBEFORE, F_TEND, F_TFINAL,
                       F_TOLD, F_TPAUSE, F_TSTOP, FAIL_NONFINITE, FAIL_RHS, FAIL_SMALL_STEP, FAILED, FINISHED, R_ATOL, R_RTOL,
                       R_Y, R_YBEFORE, R_YFINAL, R_YOLD, RUNNING, S_ARMED, S_EVENT, S_FAIL, S_IEVAL, S_INIT,

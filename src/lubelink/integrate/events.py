@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from .._jit import jitable
+from lubelink._jit import jitable
 from ._layout import F_DOLD, F_GOLD, F_RES, F_TBEFORE, F_TFINAL, R_BUF, R_Y, R_YBEFORE, R_YFINAL
 
 __all__ = ["locate"]

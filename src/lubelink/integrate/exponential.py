@@ -51,11 +51,10 @@ summed as a series for ``|z| < 1`` and from ``exp(z)`` by ``phi_{k+1} = (phi_k -
 otherwise, so small and large ``h omega`` are both accurate.
 """
 
-import math
 
 import numpy as np
 
-from .._jit import jitable, kernel
+from lubelink._jit import jitable, kernel
 from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TEND, F_TOLD, FAIL_RHS, R_F, R_METHOD, R_Y,
                       R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
 from .control import MIN_FACTOR, initial_step, scaled_rms, step_factor

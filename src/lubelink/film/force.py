@@ -1,0 +1,313 @@
+"""The modal film force on the link: pad tables and the Gauss-Legendre pass of the first integral.
+
+:func:`modal_film_force` is what the right-hand side executes, for every film option;
+:func:`film_force_many` its resultant for many samples (the results' ``film_force``);
+:func:`modal_force` and :func:`resultant_force` the same for a film given by its parameters.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import NamedTuple
+
+import numpy as np
+
+from .._jit import jitable, kernel
+from ..params import Film, kernel_view
+from .reynolds import (CENTRE, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE, WEDGE_SQUEEZE, pad_start,  # noqa: F401
+                       pressure_gradient, reynolds_cavitation, reynolds_constant)
+
+__all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
+           "modal_force", "resultant_force", "SIN", "COS", "VERS"]
+
+
+class PadTables(NamedTuple):
+    """What depends on the pad geometry only, tabulated once per model (``N`` modes).
+
+    ``quad`` (2, nodes): the Gauss-Legendre nodes ``X_j`` [m] and weights [m] on ``[0, l]``;
+    ``trig`` (3, N, nodes): ``sin``, ``cos`` and ``1 - cos`` of ``beta_n X_j`` (rows
+    :data:`SIN`, :data:`COS`, :data:`VERS`), so that ``sin(beta_n (x0 + X_j))`` needs ``sin``,
+    ``cos(beta_n x0)`` only; ``S`` [m]: the spectral integration matrix on the nodes
+    (half-Sommerfeld; else empty); ``grid_trig`` (4, N, G): ``sin``, ``cos`` at the points of the
+    uniform Reynolds-cavitation grid and at its ``G - 1`` cell midpoints (else empty);
+    ``sample_trig`` (2, N, K): ``sin``, ``cos`` at the uniform samples of the thinnest-film
+    search. Few arrays, because every array of the parameters costs a reference count at each
+    call of the right-hand side.
+    """
+
+    quad: np.ndarray
+    trig: np.ndarray
+    S: np.ndarray
+    grid_trig: np.ndarray
+    sample_trig: np.ndarray
+
+
+#: Rows of :attr:`PadTables.trig` (and ``sample_trig``, ``grid_trig``: then ``+ 2`` for the midpoints).
+SIN, COS, VERS = 0, 1, 2
+
+
+@lru_cache(maxsize=32)
+def gauss_legendre(nodes):
+    """Gauss-Legendre nodes and weights on ``[0, 1]``."""
+    s, w = np.polynomial.legendre.leggauss(nodes)
+    return 0.5 * (s + 1.0), 0.5 * w
+
+
+@lru_cache(maxsize=32)
+def integration_matrix(nodes):
+    """``S[i, j] = int_0^{s_i} l_j(s) ds`` for the Lagrange basis on the GL nodes of ``[0, 1]``.
+
+    Built in the Legendre basis, which stays well conditioned for many nodes (a monomial
+    construction loses all digits beyond about 20 nodes).
+    """
+    leg = np.polynomial.legendre
+    s, _ = gauss_legendre(nodes)
+    z = 2.0 * s - 1.0
+    V = leg.legvander(z, nodes - 1)
+    V_int = np.column_stack([leg.legval(z, leg.legint(np.eye(nodes)[j], lbnd=-1.0)) for j in range(nodes)])
+    return np.ascontiguousarray(0.5 * V_int @ np.linalg.inv(V))
+
+
+def _tables(beta, X):
+    bX = np.outer(beta, X)
+    return np.sin(bX), np.cos(bX)
+
+
+def pad_tables(modes, rod_length, film: Film) -> PadTables:
+    """The :class:`PadTables` of ``modes`` sine modes on a link of length ``rod_length`` [m]."""
+    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    l = film.pad_length
+    s, w = gauss_legendre(film.quadrature_nodes)
+    X = l * s
+    sin_bX, cos_bX = _tables(beta, X)
+    vers_bX = 2.0 * np.sin(0.5 * np.outer(beta, X)) ** 2  # 1 - cos without cancellation
+    S = l * integration_matrix(film.quadrature_nodes) if film.cavitation == "half-sommerfeld" else np.zeros((0, 0))
+    if film.cavitation == "reynolds":
+        grid = np.linspace(0.0, l, film.grid_points)
+        mid = np.append(0.5 * (grid[1:] + grid[:-1]), l)  # the last column is not used
+        grid_trig = np.stack(_tables(beta, grid) + _tables(beta, mid))
+    else:
+        grid_trig = np.zeros((4, modes, 0))
+    samples = np.linspace(0.0, l, 16 + 4 * modes)
+    return PadTables(*(np.ascontiguousarray(a, dtype=float) for a in
+                       (np.stack([X, l * w]), np.stack([sin_bX, cos_bX, vers_bX]), S, grid_trig,
+                        np.stack(_tables(beta, samples)))))
+
+# --- the modal film force --------------------------------------------------------------------------
+@jitable
+def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
+    """Add the modal forces of the film on ``side`` to ``F`` [N]; return its resultant along +j [N].
+
+    ``side = 1``: the film ``H/2 - u2`` (the paper's); ``-1``: ``H/2 + u2``, which is the first
+    one for the mirrored state ``-q`` with its force mirrored back. ``ws``: scratch holding
+    ``sin``, ``cos(beta_n x0)`` in its first ``2 N`` entries, then room for the film, ``Q`` and
+    ``w p'`` at the nodes. (The tables and the scratch are indexed, not sliced: a view of an
+    array costs two atomic reference-count updates in compiled code, which here would cost more
+    than the arithmetic.)
+    """
+    N = q.shape[0]
+    mu = f.viscosity
+    if f.cavitation == REYNOLDS:  # the obstacle problem on the pad grid, integrated by the trapezoidal rule
+        G = pad.grid_trig.shape[2]
+        grid = np.linspace(0.0, f.pad_length, G)
+        h = grid[1] - grid[0]
+        xi_mid = np.full(G - 1, 0.5 * f.clearance)
+        xi_t = np.zeros(G)
+        for n in range(N):
+            a, b = side * q[n] * ws[n], side * q[n] * ws[N + n]
+            for k in range(G - 1):  # u2(x0 + X) = sum_n q_n [sin(b x0) cos(b X) + cos(b x0) sin(b X)]
+                xi_mid[k] -= a * pad.grid_trig[COS + 2, n, k] + b * pad.grid_trig[SIN + 2, n, k]
+            if f.model == WEDGE_SQUEEZE:
+                a, b = side * q_dot[n] * ws[n], side * q_dot[n] * ws[N + n]
+                for k in range(G):
+                    xi_t[k] -= a * pad.grid_trig[COS, n, k] + b * pad.grid_trig[SIN, n, k]
+        p = np.empty(G)
+        reynolds_cavitation(grid, xi_mid, xi_t, V_r, mu, f.cavitation_pressure - f.ambient_pressure, p)
+        total = 0.0
+        for k in range(G):
+            total += h * p[k]
+        for n in range(N):
+            acc = 0.0
+            for k in range(G):
+                acc += p[k] * (ws[n] * pad.grid_trig[COS, n, k] + ws[N + n] * pad.grid_trig[SIN, n, k])
+            F[n] -= side * B * h * acc
+        return -side * B * total
+
+    nodes = pad.quad.shape[1]
+    o_xi, o_Q, o_wdp = 2 * N, 2 * N + nodes, 2 * N + 2 * nodes
+    squeeze = f.model == WEDGE_SQUEEZE
+    for j in range(nodes):
+        ws[o_xi + j] = 0.5 * f.clearance
+        ws[o_Q + j] = 0.0
+    for n in range(N):
+        a, b = side * q[n] * ws[n], side * q[n] * ws[N + n]
+        for j in range(nodes):  # xi = H/2 - side u2(x0 + X_j)
+            ws[o_xi + j] -= a * pad.trig[COS, n, j] + b * pad.trig[SIN, n, j]
+        if squeeze:  # Q = -side sum_n q_dot_n W_n(X), W_n = [c0 (1 - cos bX) + s0 sin bX] / b
+            beta = (n + 1) * np.pi / L
+            a, b = side * q_dot[n] * ws[N + n] / beta, side * q_dot[n] * ws[n] / beta
+            for j in range(nodes):
+                ws[o_Q + j] -= a * pad.trig[VERS, n, j] + b * pad.trig[SIN, n, j]
+    I1 = 0.0
+    I2 = 0.0
+    I3 = 0.0
+    for j in range(nodes):
+        xi = ws[o_xi + j]
+        w_inv3 = pad.quad[1, j] / (xi * xi * xi)
+        I1 += w_inv3 * xi
+        I2 += w_inv3
+        I3 += w_inv3 * ws[o_Q + j]
+    C = reynolds_constant(I1, I2, I3, V_r, mu)
+    for j in range(nodes):
+        ws[o_wdp + j] = pad.quad[1, j] * pressure_gradient(ws[o_xi + j], ws[o_Q + j], C, V_r, mu)
+    if f.cavitation == FULL:  # by parts: F_n = B int p' W_n, resultant B int p' X
+        total = 0.0
+        for j in range(nodes):
+            total += ws[o_wdp + j] * pad.quad[0, j]
+        for n in range(N):
+            av = 0.0
+            bs = 0.0
+            for j in range(nodes):
+                av += ws[o_wdp + j] * pad.trig[VERS, n, j]
+                bs += ws[o_wdp + j] * pad.trig[SIN, n, j]
+            F[n] += side * B * (ws[N + n] * av + ws[n] * bs) / ((n + 1) * np.pi / L)
+        return side * B * total
+    # half-Sommerfeld: the pressure at the nodes is the running integral of p', clipped; w p_g into o_Q
+    p_cav = f.cavitation_pressure - f.ambient_pressure
+    total = 0.0
+    for i in range(nodes):
+        p_i = 0.0
+        for j in range(nodes):
+            p_i += pad.S[i, j] * ws[o_wdp + j] / pad.quad[1, j]
+        ws[o_Q + i] = pad.quad[1, i] * max(p_i, p_cav)
+        total += ws[o_Q + i]
+    for n in range(N):
+        acc = 0.0
+        for j in range(nodes):
+            acc += ws[o_Q + j] * (ws[n] * pad.trig[COS, n, j] + ws[N + n] * pad.trig[SIN, n, j])
+        F[n] -= side * B * acc
+    return -side * B * total
+
+
+@jitable
+def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
+    """Modal film forces added to ``F`` [N]; returns the resultant film force on the link along +j [N].
+
+    ``F_n = -B int_pad p_g sin(beta_n x) dx`` (docs/model.md sections 2 and 4; the corrected
+    paper Eq. 20, gauge pressure) for every film of ``f`` (a :func:`lubelink.params.kernel_view`
+    of :class:`~lubelink.params.Film`): wedge or wedge and squeeze, one or two sides, cavitation
+    none, half-Sommerfeld or Reynolds.
+
+    Parameters
+    ----------
+    q, q_dot : ndarray, shape ``(N,)``
+        Modal coordinates [m] and velocities [m/s].
+    x_star : float
+        Collar position on the link [m].
+    V_r : float
+        Collar velocity relative to the link [m/s].
+    f : FilmView
+        Film parameters.
+    B : float
+        Pad (link) width [m].
+    pad : PadTables
+        Tables of the pad geometry.
+    L : float
+        Link length [m] (the wavenumbers are ``beta_n = n pi / L``).
+    F : ndarray, shape ``(N,)``
+        Accumulates the modal forces.
+    """
+    if f.model == NO_FILM:
+        return 0.0
+    x0 = pad_start(x_star, f.pad_length, f.pad_reference)
+    N = q.shape[0]
+    ws = np.empty(2 * N + 3 * pad.quad.shape[1])
+    for n in range(N):
+        ws[n] = np.sin((n + 1) * np.pi / L * x0)
+        ws[N + n] = np.cos((n + 1) * np.pi / L * x0)
+    total = _film_side(1.0, q, q_dot, ws, L, V_r, f, B, pad, F)
+    if f.sides == 2:
+        total += _film_side(-1.0, q, q_dot, ws, L, V_r, f, B, pad, F)
+    return total
+
+
+@kernel
+def film_force_many(q, q_dot, x_star, V_r, f, B, pad, L):
+    """:func:`modal_film_force`'s resultant [N] for many states: ``q``, ``q_dot`` shape ``(T, N)``, ``x_star``, ``V_r`` shape ``(T,)``."""
+    T, N = q.shape
+    out = np.empty(T)
+    F = np.empty(N)
+    for i in range(T):
+        out[i] = modal_film_force(q[i], q_dot[i], x_star[i], V_r[i], f, B, pad, L, F)
+    return out
+
+
+def _modal_force_kernel(q, q_dot, x_star, V_r, f, B, pad, L):
+    F = np.zeros(q.shape[0])
+    total = modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F)
+    return F, total
+
+
+def _film_view(mu, clearance, pad_length, squeeze, nodes, cavitation, p_cav, grid_points, sides=1):
+    film = Film(model="wedge+squeeze" if squeeze else "wedge", viscosity=mu, clearance=clearance,
+                pad_length=pad_length, quadrature_nodes=nodes, sides=sides, cavitation=cavitation,
+                cavitation_pressure=p_cav, ambient_pressure=0.0, grid_points=grid_points)
+    return film, kernel_view(film)
+
+
+def modal_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_length, squeeze=False, nodes=32,
+                cavitation="none", p_cav=-101325.0, grid_points=201):
+    """Modal film forces ``F_n`` [N], the resultant film force [N] and the thinnest film [m] of one state.
+
+    :func:`modal_film_force` (what the right-hand side executes) for the one-sided film
+    ``xi = H/2 - u2`` on the pad ``[x0, x0 + l]``.
+
+    Parameters
+    ----------
+    q, q_dot : ndarray, shape ``(N,)``
+        Modal coordinates [m] and velocities [m/s].
+    x0 : float
+        Pad start on the link [m].
+    V_r : float
+        Collar velocity relative to the link [m/s].
+    mu, clearance, pad_length, width, rod_length : float
+        ``mu`` [Pa s], ``H`` [m], ``l`` [m], ``B`` [m], ``L`` [m].
+    squeeze : bool
+        Include the ``12 mu xi_t`` term.
+    nodes : int
+        Gauss-Legendre nodes on the pad.
+    cavitation : {"none", "half-sommerfeld", "reynolds"}
+        See :func:`pressure`.
+    p_cav : float
+        Gauge cavitation pressure [Pa].
+    grid_points : int
+        Grid of the ``"reynolds"`` solver.
+
+    Returns
+    -------
+    F : ndarray, shape ``(N,)``
+    total : float
+    xi_min : float
+        Smallest film thickness at the quadrature nodes [m].
+    """
+    q = np.ascontiguousarray(q, dtype=float)
+    q_dot = np.ascontiguousarray(q_dot, dtype=float)
+    film, view = _film_view(mu, clearance, pad_length, squeeze, nodes, cavitation, p_cav, grid_points)
+    pad = pad_tables(q.shape[0], rod_length, film)
+    beta = np.arange(1, q.shape[0] + 1) * np.pi / rod_length
+    F, total = _modal_force_kernel(q, q_dot, float(x0), float(V_r), view, float(width), pad, float(rod_length))
+    xi_min = float(np.min(0.5 * clearance - np.sin(np.outer(x0 + pad.quad[0], beta)) @ q))
+    return F, total, xi_min
+
+
+def resultant_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_length, squeeze=False, nodes=32,
+                    cavitation="none", p_cav=-101325.0, grid_points=201, sides=1):
+    """Resultant force of the film on the link along +j [N], for many states at once.
+
+    ``q``, ``q_dot`` have shape ``(T, N)``; ``x0``, ``V_r`` shape ``(T,)``; returns shape ``(T,)``.
+    """
+    q = np.ascontiguousarray(q, dtype=float)
+    film, view = _film_view(mu, clearance, pad_length, squeeze, nodes, cavitation, p_cav, grid_points, sides)
+    pad = pad_tables(q.shape[1], rod_length, film)
+    return film_force_many(q, np.ascontiguousarray(q_dot, dtype=float), np.ascontiguousarray(x0, dtype=float),
+                           np.ascontiguousarray(V_r, dtype=float), view, float(width), pad, float(rod_length))
