@@ -334,7 +334,11 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, cli
 
 @on_cluster
 def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tmp_path):
+    # points of about a second each (7 modes at a tight tolerance), so that the kill, polled every
+    # 10 ms, lands while the point computes
     data = sweep_dict(**{"mechanism.crank_speed": [20.0, 25.0, 30.0, 35.0]})
+    data["set"].update({"beam.modes": 7, "solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-16,
+                        "solver.t_end": 0.5})
     trace = tmp_path / "trace.log"
     workers = set(client.run(os.getpid).values())
     killed = []

@@ -73,10 +73,11 @@ class RigidMotion(NamedTuple):
 class MotionTable(NamedTuple):
     """A motion in the form compiled code evaluates (:func:`motion_at`).
 
-    ``kind`` is :data:`SLIDER_CRANK` (the four lengths and speed are used) or :data:`SAMPLED`
-    (``knots`` [s] and ``coef``, shape ``(7, 4, knots.size - 1)``: for each of
-    :data:`CHANNELS` the cubic coefficients on each interval, highest power first).
-    ``collar_mass`` [kg] scales the slider-crank's joint reaction (D7).
+    ``kind`` is :data:`SLIDER_CRANK` (the four lengths and speed are used; ``knots`` and
+    ``coef`` None, so compiled code holds no spline) or :data:`SAMPLED` (``knots`` [s] and
+    ``coef``, shape ``(7, 4, knots.size - 1)``: for each of :data:`CHANNELS` the cubic
+    coefficients on each interval, highest power first). ``collar_mass`` [kg] scales the
+    slider-crank's joint reaction (D7).
     """
 
     kind: int
@@ -85,8 +86,8 @@ class MotionTable(NamedTuple):
     crank_speed: float
     guide_distance: float
     collar_mass: float
-    knots: np.ndarray
-    coef: np.ndarray
+    knots: np.ndarray | None
+    coef: np.ndarray | None
 
 
 @jitable
@@ -177,19 +178,21 @@ def motion_at(t, m):
         the link axis ``i`` about +k from +X (gravity), ``v_O1`` the axial velocity of O (NaN for
         a sampled motion).
     """
-    if m.kind == SLIDER_CRANK:
+    return _motion(t, m, m.knots, m.coef)
+
+
+@jitable
+def _motion(t, m, knots, coef):
+    """:func:`motion_at` with the spline tables as arguments (None: the slider-crank, compiled alone)."""
+    if knots is None:
         theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
             t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
         reaction = -m.collar_mass * Y_ddot / c_th
         return A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1
-    return (piecewise_cubic(t, m.knots, m.coef, 0), piecewise_cubic(t, m.knots, m.coef, 1),
-            piecewise_cubic(t, m.knots, m.coef, 2), piecewise_cubic(t, m.knots, m.coef, 3),
-            piecewise_cubic(t, m.knots, m.coef, 4), piecewise_cubic(t, m.knots, m.coef, 5),
-            piecewise_cubic(t, m.knots, m.coef, 6), np.nan)
-
-
-def _no_table():
-    return np.zeros(2), np.zeros((len(CHANNELS), 4, 1))
+    return (piecewise_cubic(t, knots, coef, 0), piecewise_cubic(t, knots, coef, 1),
+            piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
+            piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
+            piecewise_cubic(t, knots, coef, 6), np.nan)
 
 
 @dataclass(frozen=True)
@@ -209,9 +212,8 @@ class SliderCrank:
     def table(self, collar_mass=0.0) -> MotionTable:
         """The :class:`MotionTable` of this motion for the compiled code."""
         m = self.mechanism
-        knots, coef = _no_table()
         return MotionTable(SLIDER_CRANK, float(m.crank_length), float(m.rod_length), float(m.crank_speed),
-                           float(m.guide_distance), float(collar_mass), knots, coef)
+                           float(m.guide_distance), float(collar_mass), None, None)
 
     def joint_reaction(self, t, mass):
         """Force of the collar on the link along +j [N] (D7).

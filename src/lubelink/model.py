@@ -76,10 +76,10 @@ class Params(NamedTuple):
     basis: Basis
     pad: film.PadTables
     motion: MotionTable
-    phase: Phase
+    phase: ContactPhase | None
 
 
-NO_PHASE = Phase(0.0, 0.0)
+NO_PHASE = ContactPhase(0.0, 0.0)
 
 
 class BackendError(ValueError):
@@ -87,6 +87,18 @@ class BackendError(ValueError):
 
 
 # --- the right-hand side ----------------------------------------------------------------------------
+@jitable
+def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
+    """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing)."""
+    if phase is None:
+        return
+    if phase.side == 0.0:
+        return
+    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
+    contact.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
+                            phase.v_minus, F)
+
+
 @jitable
 def rhs_given(t, kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
@@ -103,9 +115,7 @@ def rhs_given(t, kin, y, out, p):
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)
-    if p.phase.side != 0.0:
-        x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-        contact.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, L, p.phase.side, p.phase.v_minus, F)
+    _compliant_term(p.phase, q, q_dot, x_star, V_r, p, F)
     gX, gY = p.mechanism.gravity
     A_eff = A_O2
     if gX != 0.0 or gY != 0.0:  # gravity along the link's j axis
@@ -161,13 +171,16 @@ def make_params(config: Config, table: MotionTable | None) -> Params:
     N = b.modes
     omega_n = beam.natural_frequencies(N, L, b.youngs_modulus, b.second_moment, b.density, b.area)
     basis = Basis(int(N), float(L), _c(omega_n), float(beam.modal_mass(b.density, b.area, L)))
-    pad = film.pad_tables(N, L, config.film)
+    watched = config.film.enabled or config.contact.law != "none"
+    pad = film.pad_tables(N, L, config.film) if watched else None
     if table is None:
         table = SliderCrank(config.mechanism).table(config.collar.mass)
-    table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
+    if table.knots is not None:
+        table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
+    phase = NO_PHASE if config.contact.law == "compliant" else None
     return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
                   kernel_view(config.collar), kernel_view(config.contact), kernel_view(config.model), basis, pad,
-                  table, NO_PHASE)
+                  table, phase)
 
 
 # --- the model, from Python ------------------------------------------------------------------------------
@@ -218,7 +231,10 @@ class Model:
 
     def with_phase(self, phase) -> Params:
         """The parameters of a segment with the compliant contact ``phase`` ``(side, v_minus)`` or None."""
-        return self.params._replace(phase=NO_PHASE if phase is None else Phase(float(phase[0]), float(phase[1])))
+        if self.params.phase is None:
+            return self.params
+        return self.params._replace(phase=NO_PHASE if phase is None else ContactPhase(float(phase[0]),
+                                                                                     float(phase[1])))
 
     def gravity_j(self, t):
         """Gravity along the link's ``j`` axis at ``t`` [m/s^2]."""
@@ -298,7 +314,8 @@ class Model:
         p = self.params
         x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
         y = np.ascontiguousarray(y, dtype=float)
-        force = contact.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
+        pad = p.pad if p.pad is not None else film.pad_tables(N, p.basis.rod_length, self.config.film)
+        force = contact.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, pad,
                                         p.basis.rod_length, float(phase[0]), float(phase[1]), F)
         return F, float(force)
 

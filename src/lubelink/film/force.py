@@ -27,19 +27,20 @@ class PadTables(NamedTuple):
     ``quad`` (2, nodes): the Gauss-Legendre nodes ``X_j`` [m] and weights [m] on ``[0, l]``;
     ``trig`` (3, N, nodes): ``sin``, ``cos`` and ``1 - cos`` of ``beta_n X_j`` (rows
     :data:`SIN`, :data:`COS`, :data:`VERS`), so that ``sin(beta_n (x0 + X_j))`` needs ``sin``,
-    ``cos(beta_n x0)`` only; ``S`` [m]: the spectral integration matrix on the nodes
-    (half-Sommerfeld; else empty); ``grid_trig`` (4, N, G): ``sin``, ``cos`` at the points of the
-    uniform Reynolds-cavitation grid and at its ``G - 1`` cell midpoints (else empty);
-    ``sample_trig`` (2, N, K): ``sin``, ``cos`` at the uniform samples of the thinnest-film
-    search. Few arrays, because every array of the parameters costs a reference count at each
-    call of the right-hand side.
+    ``cos(beta_n x0)`` only; ``sample_trig`` (2, N, K): ``sin``, ``cos`` at the uniform samples of
+    the thinnest-film search. The tables of one cavitation option are None for the others:
+    ``S`` [m], the spectral integration matrix on the nodes (half-Sommerfeld); ``grid_trig``
+    (4, N, G), ``sin``, ``cos`` at the points of the uniform grid and at its ``G - 1`` cell
+    midpoints (Reynolds). A None table has another type in compiled code, so the kernels are
+    compiled for the options a configuration uses only. Few arrays, because every array of the
+    parameters costs a reference count at each call of the right-hand side.
     """
 
     quad: np.ndarray
     trig: np.ndarray
-    S: np.ndarray
-    grid_trig: np.ndarray
     sample_trig: np.ndarray
+    S: np.ndarray | None
+    grid_trig: np.ndarray | None
 
 
 #: Rows of :attr:`PadTables.trig` (and ``sample_trig``, ``grid_trig``: then ``+ 2`` for the midpoints).
@@ -81,19 +82,85 @@ def pad_tables(modes, rod_length, film: Film) -> PadTables:
     X = l * s
     sin_bX, cos_bX = _tables(beta, X)
     vers_bX = 2.0 * np.sin(0.5 * np.outer(beta, X)) ** 2  # 1 - cos without cancellation
-    S = l * integration_matrix(film.quadrature_nodes) if film.cavitation == "half-sommerfeld" else np.zeros((0, 0))
-    if film.cavitation == "reynolds":
+    S = grid_trig = None
+    if film.cavitation == "half-sommerfeld":
+        S = _c(l * integration_matrix(film.quadrature_nodes))
+    elif film.cavitation == "reynolds":
         grid = np.linspace(0.0, l, film.grid_points)
         mid = np.append(0.5 * (grid[1:] + grid[:-1]), l)  # the last column is not used
-        grid_trig = np.stack(_tables(beta, grid) + _tables(beta, mid))
-    else:
-        grid_trig = np.zeros((4, modes, 0))
+        grid_trig = _c(np.stack(_tables(beta, grid) + _tables(beta, mid)))
     samples = np.linspace(0.0, l, 16 + 4 * modes)
-    return PadTables(*(np.ascontiguousarray(a, dtype=float) for a in
-                       (np.stack([X, l * w]), np.stack([sin_bX, cos_bX, vers_bX]), S, grid_trig,
-                        np.stack(_tables(beta, samples)))))
+    return PadTables(_c(np.stack([X, l * w])), _c(np.stack([sin_bX, cos_bX, vers_bX])),
+                     _c(np.stack(_tables(beta, samples))), S, grid_trig)
+
+
+def _c(a):
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 # --- the modal film force --------------------------------------------------------------------------
+@jitable
+def _reynolds_side(side, q, q_dot, ws, V_r, f, B, grid_trig, F):
+    """The film on ``side`` with the Swift-Stieber condition: the obstacle problem on the pad grid.
+
+    Integrated by the trapezoidal rule (``p = 0`` at the pad ends); ``grid_trig`` None (another
+    cavitation option) compiles to nothing.
+    """
+    if grid_trig is None:
+        return 0.0
+    N = q.shape[0]
+    G = grid_trig.shape[2]
+    grid = np.linspace(0.0, f.pad_length, G)
+    h = grid[1] - grid[0]
+    xi_mid = np.full(G - 1, 0.5 * f.clearance)
+    xi_t = np.zeros(G)
+    for n in range(N):
+        a, b = side * q[n] * ws[n], side * q[n] * ws[N + n]
+        for k in range(G - 1):  # u2(x0 + X) = sum_n q_n [sin(b x0) cos(b X) + cos(b x0) sin(b X)]
+            xi_mid[k] -= a * grid_trig[COS + 2, n, k] + b * grid_trig[SIN + 2, n, k]
+        if f.model == WEDGE_SQUEEZE:
+            a, b = side * q_dot[n] * ws[n], side * q_dot[n] * ws[N + n]
+            for k in range(G):
+                xi_t[k] -= a * grid_trig[COS, n, k] + b * grid_trig[SIN, n, k]
+    p = np.empty(G)
+    reynolds_cavitation(grid, xi_mid, xi_t, V_r, f.viscosity, f.cavitation_pressure - f.ambient_pressure, p)
+    total = 0.0
+    for k in range(G):
+        total += h * p[k]
+    for n in range(N):
+        acc = 0.0
+        for k in range(G):
+            acc += p[k] * (ws[n] * grid_trig[COS, n, k] + ws[N + n] * grid_trig[SIN, n, k])
+        F[n] -= side * B * h * acc
+    return -side * B * total
+
+
+@jitable
+def _half_sommerfeld_side(side, ws, nodes, f, B, pad, S, F):
+    """The film on ``side`` clipped at the cavitation pressure: the pressure at the nodes is the running
+    integral of ``p'`` (``w p'`` at ``ws[2 N + 2 nodes:]``), by the spectral integration matrix ``S``.
+
+    ``S`` None (another cavitation option) compiles to nothing.
+    """
+    if S is None:
+        return 0.0
+    N = F.shape[0]
+    o_wp, o_wdp = 2 * N + nodes, 2 * N + 2 * nodes
+    p_cav = f.cavitation_pressure - f.ambient_pressure
+    total = 0.0
+    for i in range(nodes):
+        p_i = 0.0
+        for j in range(nodes):
+            p_i += S[i, j] * ws[o_wdp + j] / pad.quad[1, j]
+        ws[o_wp + i] = pad.quad[1, i] * max(p_i, p_cav)
+        total += ws[o_wp + i]
+    for n in range(N):
+        acc = 0.0
+        for j in range(nodes):
+            acc += ws[o_wp + j] * (ws[n] * pad.trig[COS, n, j] + ws[N + n] * pad.trig[SIN, n, j])
+        F[n] -= side * B * acc
+    return -side * B * total
+
+
 @jitable
 def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     """Add the modal forces of the film on ``side`` to ``F`` [N]; return its resultant along +j [N].
@@ -105,34 +172,10 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     array costs two atomic reference-count updates in compiled code, which here would cost more
     than the arithmetic.)
     """
+    if f.cavitation == REYNOLDS:
+        return _reynolds_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, F)
     N = q.shape[0]
     mu = f.viscosity
-    if f.cavitation == REYNOLDS:  # the obstacle problem on the pad grid, integrated by the trapezoidal rule
-        G = pad.grid_trig.shape[2]
-        grid = np.linspace(0.0, f.pad_length, G)
-        h = grid[1] - grid[0]
-        xi_mid = np.full(G - 1, 0.5 * f.clearance)
-        xi_t = np.zeros(G)
-        for n in range(N):
-            a, b = side * q[n] * ws[n], side * q[n] * ws[N + n]
-            for k in range(G - 1):  # u2(x0 + X) = sum_n q_n [sin(b x0) cos(b X) + cos(b x0) sin(b X)]
-                xi_mid[k] -= a * pad.grid_trig[COS + 2, n, k] + b * pad.grid_trig[SIN + 2, n, k]
-            if f.model == WEDGE_SQUEEZE:
-                a, b = side * q_dot[n] * ws[n], side * q_dot[n] * ws[N + n]
-                for k in range(G):
-                    xi_t[k] -= a * pad.grid_trig[COS, n, k] + b * pad.grid_trig[SIN, n, k]
-        p = np.empty(G)
-        reynolds_cavitation(grid, xi_mid, xi_t, V_r, mu, f.cavitation_pressure - f.ambient_pressure, p)
-        total = 0.0
-        for k in range(G):
-            total += h * p[k]
-        for n in range(N):
-            acc = 0.0
-            for k in range(G):
-                acc += p[k] * (ws[n] * pad.grid_trig[COS, n, k] + ws[N + n] * pad.grid_trig[SIN, n, k])
-            F[n] -= side * B * h * acc
-        return -side * B * total
-
     nodes = pad.quad.shape[1]
     o_xi, o_Q, o_wdp = 2 * N, 2 * N + nodes, 2 * N + 2 * nodes
     squeeze = f.model == WEDGE_SQUEEZE
@@ -160,33 +203,20 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     C = reynolds_constant(I1, I2, I3, V_r, mu)
     for j in range(nodes):
         ws[o_wdp + j] = pad.quad[1, j] * pressure_gradient(ws[o_xi + j], ws[o_Q + j], C, V_r, mu)
-    if f.cavitation == FULL:  # by parts: F_n = B int p' W_n, resultant B int p' X
-        total = 0.0
-        for j in range(nodes):
-            total += ws[o_wdp + j] * pad.quad[0, j]
-        for n in range(N):
-            av = 0.0
-            bs = 0.0
-            for j in range(nodes):
-                av += ws[o_wdp + j] * pad.trig[VERS, n, j]
-                bs += ws[o_wdp + j] * pad.trig[SIN, n, j]
-            F[n] += side * B * (ws[N + n] * av + ws[n] * bs) / ((n + 1) * np.pi / L)
-        return side * B * total
-    # half-Sommerfeld: the pressure at the nodes is the running integral of p', clipped; w p_g into o_Q
-    p_cav = f.cavitation_pressure - f.ambient_pressure
+    if f.cavitation == HALF_SOMMERFELD:
+        return _half_sommerfeld_side(side, ws, nodes, f, B, pad, pad.S, F)
+    # no cavitation: by parts, F_n = B int p' W_n and the resultant B int p' X
     total = 0.0
-    for i in range(nodes):
-        p_i = 0.0
-        for j in range(nodes):
-            p_i += pad.S[i, j] * ws[o_wdp + j] / pad.quad[1, j]
-        ws[o_Q + i] = pad.quad[1, i] * max(p_i, p_cav)
-        total += ws[o_Q + i]
+    for j in range(nodes):
+        total += ws[o_wdp + j] * pad.quad[0, j]
     for n in range(N):
-        acc = 0.0
+        av = 0.0
+        bs = 0.0
         for j in range(nodes):
-            acc += ws[o_Q + j] * (ws[n] * pad.trig[COS, n, j] + ws[N + n] * pad.trig[SIN, n, j])
-        F[n] -= side * B * acc
-    return -side * B * total
+            av += ws[o_wdp + j] * pad.trig[VERS, n, j]
+            bs += ws[o_wdp + j] * pad.trig[SIN, n, j]
+        F[n] += side * B * (ws[N + n] * av + ws[n] * bs) / ((n + 1) * np.pi / L)
+    return side * B * total
 
 
 @jitable
@@ -210,13 +240,15 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
         Film parameters.
     B : float
         Pad (link) width [m].
-    pad : PadTables
-        Tables of the pad geometry.
+    pad : PadTables or None
+        Tables of the pad geometry (None: no film and no gap to watch).
     L : float
         Link length [m] (the wavenumbers are ``beta_n = n pi / L``).
     F : ndarray, shape ``(N,)``
         Accumulates the modal forces.
     """
+    if pad is None:  # no film and no gap: compiles to nothing
+        return 0.0
     if f.model == NO_FILM:
         return 0.0
     x0 = pad_start(x_star, f.pad_length, f.pad_reference)

@@ -84,7 +84,6 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
         return out
     p_cav = f.cavitation_pressure - f.ambient_pressure
     n_pts = sin_p.shape[1]
-    grid = np.linspace(0.0, f.pad_length, sin_g.shape[1])
     for i in range(T):
         x0 = pad_start(x_star[i], f.pad_length, f.pad_reference)
         s0 = np.sin(np.arange(1, N + 1) * np.pi / L * x0)
@@ -92,12 +91,7 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
         xi = np.full(n_pts, 0.5 * f.clearance)
         add_deflection(q[i], s0, c0, sin_p, cos_p, -side, xi)
         if f.cavitation == REYNOLDS:
-            xi_t = np.zeros(grid.shape[0])
-            if f.model == WEDGE_SQUEEZE:
-                add_deflection(q_dot[i], s0, c0, sin_g, cos_g, -side, xi_t)
-            p = np.empty(grid.shape[0])
-            reynolds_cavitation(grid, xi, xi_t, V_r[i], f.viscosity, p_cav, p)
-            out[i] = np.interp(X, grid, p)
+            _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])
             continue
         n = n_pts // M
         xi_t = np.zeros(n_pts if f.model == WEDGE_SQUEEZE else 0)
@@ -109,6 +103,24 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
             for k in range(M + 1):
                 out[i, k] = max(out[i, k], p_cav)
     return out
+
+
+@jitable
+def _reynolds_sample(X, xi_mid, q_dot, s0, c0, V_r, side, f, sin_g, cos_g, out):
+    """One sample's pressure with the Swift-Stieber condition, on the grid of ``sin_g`` interpolated to ``X``.
+
+    ``sin_g`` None (another cavitation option) compiles to nothing.
+    """
+    if sin_g is None:
+        return
+    G = sin_g.shape[1]
+    grid = np.linspace(0.0, f.pad_length, G)
+    xi_t = np.zeros(G)
+    if f.model == WEDGE_SQUEEZE:
+        add_deflection(q_dot, s0, c0, sin_g, cos_g, -side, xi_t)
+    p = np.empty(G)
+    reynolds_cavitation(grid, xi_mid, xi_t, V_r, f.viscosity, f.cavitation_pressure - f.ambient_pressure, p)
+    out[:] = np.interp(X, grid, p)
 
 
 @kernel
@@ -258,14 +270,14 @@ def pressure_points(X, modes, rod_length, nodes=8, grid_points=0):
     """Tables for :func:`pad_pressure_many`: ``(w, Sm, sin_p, cos_p, sin_g, cos_g)`` for pad points ``X``."""
     beta = np.arange(1, modes + 1) * np.pi / rod_length
     s, w = gauss_legendre(nodes)
-    if grid_points:
+    if grid_points:  # Reynolds: the film at the cell midpoints, its rate at the grid points
         grid = np.linspace(0.0, X[-1], grid_points)
         pts = 0.5 * (grid[1:] + grid[:-1])
+        grid_tables = tuple(np.ascontiguousarray(a) for a in _tables(beta, grid))
     else:
-        grid = np.zeros(0)
         pts = (X[:-1, None] + np.diff(X)[:, None] * s).ravel()
-    tables = _tables(beta, pts) + _tables(beta, grid)
-    return (w, integration_matrix(nodes)) + tuple(np.ascontiguousarray(a) for a in tables)
+        grid_tables = (None, None)
+    return (w, integration_matrix(nodes)) + tuple(np.ascontiguousarray(a) for a in _tables(beta, pts)) + grid_tables
 
 
 def pad_pressure(X, q, q_dot, x0, V_r, *, mu, clearance, rod_length, squeeze=False, nodes=8,

@@ -1,0 +1,45 @@
+"""Compile every kernel once (or load it from the on-disk cache): ``lubelink compile``.
+
+The first run in a new environment compiles the kernels it needs, which takes tens of seconds;
+they are cached on disk (:mod:`lubelink._jit`) and every configuration shares them (the
+parameter structure has the same types whatever the configuration), so this is paid once per
+installation. :func:`compile_all` pays it up front: before a test session, on each worker of a
+cluster, or in a container image.
+"""
+
+from __future__ import annotations
+
+import time
+
+__all__ = ["compile_all"]
+
+
+def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential"), progress=None):
+    """Compile (or load) the kernels of ``methods`` and of the results; return the wall time [s].
+
+    Parameters
+    ----------
+    methods : sequence of str
+        ``solver.method`` values to prepare (the default: every compiled method).
+    progress : callable, optional
+        ``progress(message)`` before each step.
+    """
+    from . import _jit
+    from .config import resolve
+    from .results import to_dataset
+    from .simulate import run
+
+    start = time.perf_counter()
+    if not _jit.ENABLED:
+        return 0.0
+    for method in methods:
+        if progress:
+            progress(f"compiling the right-hand side, the gap and {method}")
+        # a film, its events, two modes: every branch the kernels have is compiled with them
+        config = resolve("paper", {"beam.modes": 2, "solver.method": method, "solver.t_end": 2e-3,
+                                   "solver.output_step": 1e-3})
+        result = run(config)
+    if progress:
+        progress("compiling the results")
+    to_dataset(result)
+    return time.perf_counter() - start
