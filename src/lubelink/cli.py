@@ -85,41 +85,44 @@ def resolve_args(args):
     return source, resolve(source, overrides)
 
 
-def _summary(ds, source, path):
+def _summary(r, source, path, wall):
+    """The run's summary, a line a row, from its :class:`~lubelink.results.Results`."""
     import numpy as np
 
-    cfg_line = ds.attrs["config"]
-    u = np.abs(ds.u2_mid.values)
+    a = r.attrs
+    u = np.abs(r["u2_mid"])
     i = int(np.argmax(u)) if u.size else 0
+    t = r["time"]
     rows = [
         ("source", str(source)),
-        ("status", ds.attrs["status"] + ("" if ds.attrs["status"] == "complete" else f": {ds.attrs['message']}")),
-        ("simulated", f"0 - {float(ds.time[-1]):.4g} s, {ds.sizes['mode']} mode(s), "
-                      f"{ds.sizes['time']} samples"),
-        ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(ds.time[i]):.4f} s"),
+        ("status", a["status"] + ("" if a["status"] == "complete" else f": {a['message']}")),
+        ("simulated", f"0 - {float(t[-1]):.4g} s, {r['mode'].size} mode(s), {t.size} samples"),
+        ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(t[i]):.4f} s"),
     ]
-    if "pressure" in ds:
-        rows.append(("film", f"thinnest {1e3 * float(ds.film_min.min()):.4f} mm, peak gauge pressure "
-                             f"{1e-3 * float(np.abs(ds.pressure).max()):.4g} kPa, peak force "
-                             f"{float(np.abs(ds.film_force).max()):.4g} N"))
-    n_imp = int(ds.attrs["impact_count"])
-    times = ", ".join(f"{t:.4f}" for t in ds.impact_time.values[:5]) + (" ..." if n_imp > 5 else "")
+    if "pressure" in r:
+        rows.append(("film", f"thinnest {1e3 * float(r['film_min'].min()):.4f} mm, peak gauge pressure "
+                             f"{1e-3 * float(np.abs(r['pressure']).max()):.4g} kPa, peak force "
+                             f"{float(np.abs(r['film_force']).max()):.4g} N"))
+    n_imp = int(a["impact_count"])
+    times = ", ".join(f"{t:.4f}" for t in r["impact_time"][:5]) + (" ..." if n_imp > 5 else "")
     rows.append(("impacts", f"{n_imp}" + (f" (t = {times} s)" if n_imp else "")))
-    rows.append(("solver", f"{ds.attrs['solver_method']}, {ds.attrs['nsteps']} steps, "
-                           f"{ds.attrs['nfev']} right-hand-side evaluations"))
-    rows.append(("wall time", f"{ds.attrs['wall_time']:.3f} s"))
+    backend = a["backend"] + (f" ({a['backend_note']})" if a["backend_note"] else "")
+    rows.append(("solver", f"{a['solver_method']}, {a['nsteps']} steps, {a['nfev']} right-hand-side evaluations, "
+                           f"backend {backend}"))
+    rows.append(("wall time", f"{a['wall_time']:.3f} s integration, {wall:.3f} s in all"))
     if path is not None:
         rows.append(("wrote", str(path)))
-    del cfg_line
     width = max(len(k) for k, _ in rows)
     return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
 
 
 def _cmd_run(args):
-    from . import save
-    from .results import ResultsFileError
-    from .simulate import run, to_dataset
+    import time
 
+    from .results import ResultsFileError, collect, write
+    from .simulate import run
+
+    began = time.perf_counter()
     source, config = resolve_args(args)
     path = None
     if not args.no_output:
@@ -128,7 +131,7 @@ def _cmd_run(args):
             raise UsageError(f"-o {path}: the file exists; add --overwrite to replace it")
         if not path.parent.exists():
             raise UsageError(f"-o {path}: folder {path.parent} does not exist")
-    if args.quiet:
+    if args.quiet or not sys.stderr.isatty():
         result = run(config)
     else:
         from tqdm.auto import tqdm
@@ -141,14 +144,14 @@ def _cmd_run(args):
                     bar.update(t - bar.n)
 
             result = run(config, progress=report)
-    ds = to_dataset(result)
+    results = collect(result)
     if path is not None:
         try:
-            save(ds, path, overwrite=args.overwrite)
+            write(results, path, overwrite=args.overwrite)
         except ResultsFileError as exc:
             raise UsageError(str(exc)) from None
     if not args.quiet:
-        print(_summary(ds, source, path))
+        print(_summary(results, source, path, time.perf_counter() - began))
     return 0 if result.complete else 1
 
 

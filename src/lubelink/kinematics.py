@@ -352,23 +352,24 @@ def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None, 
 def collar_travel(mechanism: Mechanism, samples: int = 4097):
     """Smallest and largest collar position over one crank turn [m].
 
-    Sampled on a fine grid of crank angles, then polished by a bounded scalar minimisation around
-    the extreme samples.
+    Sampled on a fine grid of crank angles, then refined around the extreme samples by parabolic
+    interpolation (``x_star`` is smooth in the crank angle: the vertex of the parabola through the
+    three samples around an extremum is exact to the fourth power of the spacing).
     """
-    from scipy.optimize import minimize_scalar
-
     m = mechanism
 
     def x_of(phi):  # x_star depends on the crank angle only: use unit crank speed
         return slider_crank_state(np.asarray(phi, dtype=float), m.crank_length, m.rod_length, 1.0,
                                   m.guide_distance)[5]
 
-    ts = np.linspace(0.0, 2.0 * np.pi, samples)
-    xs = x_of(ts)
-    dt = ts[1] - ts[0]
-    i_lo, i_hi = int(np.argmin(xs)), int(np.argmax(xs))
-    lo = minimize_scalar(lambda s: float(x_of(s)), bounds=(ts[i_lo] - dt, ts[i_lo] + dt),
-                         method="bounded", options={"xatol": 1e-12})
-    hi = minimize_scalar(lambda s: -float(x_of(s)), bounds=(ts[i_hi] - dt, ts[i_hi] + dt),
-                         method="bounded", options={"xatol": 1e-12})
-    return min(lo.fun, float(xs[i_lo])), max(-hi.fun, float(xs[i_hi]))
+    phi = np.linspace(0.0, 2.0 * np.pi, samples)[:-1]  # one turn, periodic
+    xs = x_of(phi)
+
+    def extreme(i, sign):
+        a, b, c = sign * xs[i - 1], sign * xs[i], sign * xs[(i + 1) % xs.size]
+        denominator = a - 2.0 * b + c
+        shift = 0.5 * (a - c) / denominator if denominator != 0.0 else 0.0
+        # the refined point, or the sample if rounding made the refinement worse
+        return sign * max(sign * float(x_of(phi[i] + shift * (phi[1] - phi[0]))), b)
+
+    return extreme(int(np.argmin(xs)), -1.0), extreme(int(np.argmax(xs)), 1.0)

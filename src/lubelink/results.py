@@ -19,8 +19,8 @@ import numpy as np
 
 from ._files import atomic_path
 
-__all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "to_dataset", "save", "load", "config_of", "atomic_path",
-           "ResultsFileError", "versions"]
+__all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "to_dataset", "write", "save", "load",
+           "config_of", "atomic_path", "ResultsFileError", "versions"]
 
 
 class Variable(NamedTuple):
@@ -94,10 +94,37 @@ def _select(kernel, compiled):
     return kernel if compiled else kernel.py_func
 
 
+class Results(NamedTuple):
+    """A run's results before they become an :class:`xarray.Dataset` or a file.
+
+    ``data_vars`` and ``coords`` map names to ``(dims, array, attrs)``, ``attrs`` are the
+    global attributes: what :func:`to_dataset` wraps (xarray) and :func:`write` writes (netCDF4
+    directly, without importing xarray).
+    """
+
+    data_vars: dict
+    coords: dict
+    attrs: dict
+
+    def __getitem__(self, name):
+        """The array of variable or coordinate ``name``."""
+        entry = self.data_vars.get(name) or self.coords[name]
+        return entry[1]
+
+    def __contains__(self, name):
+        return name in self.data_vars or name in self.coords
+
+
 def to_dataset(result):
     """Sample a :class:`~lubelink.simulate.Run` into the results :class:`xarray.Dataset`."""
     import xarray as xr
 
+    r = collect(result)
+    return xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
+
+
+def collect(result) -> Results:
+    """Sample a :class:`~lubelink.simulate.Run` into :class:`Results`: the variables of :data:`VARIABLES`."""
     from . import beam, film
     from .config import to_toml
     from .model import thinnest_many
@@ -165,7 +192,46 @@ def to_dataset(result):
         "wall_time": result.wall_time,
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return Results(data, coords, attrs)
+
+
+#: zlib level of every variable in a results file (level 1-4 halve the file; higher gains little).
+COMPRESSION = 2
+
+
+def write(results: Results, path, overwrite=False):
+    """Write :class:`Results` to NetCDF-4 at ``path`` atomically, with netCDF4 (no xarray import).
+
+    The file is what :func:`save` would write of :func:`to_dataset`: :func:`load` reads it back.
+    """
+    import netCDF4
+
+    path = _checked_target(path, overwrite)
+    with atomic_path(path) as tmp:
+        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
+            sizes = {}
+            for dims, data, _ in list(results.coords.values()) + list(results.data_vars.values()):
+                for dim, n in zip(dims, np.shape(data)):
+                    sizes[dim] = n
+            for dim, n in sizes.items():
+                nc.createDimension(dim, n)
+            for name, (dims, data, attrs) in list(results.coords.items()) + list(results.data_vars.items()):
+                data = np.asarray(data)
+                var = nc.createVariable(name, data.dtype, dims, zlib=bool(data.size), complevel=COMPRESSION)
+                var.setncatts(attrs)
+                if data.size:
+                    var[...] = data
+            nc.setncatts({k: (int(v) if isinstance(v, bool) else v) for k, v in results.attrs.items()})
+    return path
+
+
+def _checked_target(path, overwrite):
+    path = Path(path)
+    if path.exists() and not overwrite:
+        raise ResultsFileError(f"{path} exists; pass overwrite=True (--overwrite) to replace it")
+    if not path.parent.exists():
+        raise ResultsFileError(f"{path}: folder {path.parent} does not exist")
+    return path
 
 
 def save(dataset, path, overwrite=False):
@@ -176,13 +242,10 @@ def save(dataset, path, overwrite=False):
     ResultsFileError
         If ``path`` exists and ``overwrite`` is false, or the folder is missing.
     """
-    path = Path(path)
-    if path.exists() and not overwrite:
-        raise ResultsFileError(f"{path} exists; pass overwrite=True (--overwrite) to replace it")
-    if not path.parent.exists():
-        raise ResultsFileError(f"{path}: folder {path.parent} does not exist")
+    path = _checked_target(path, overwrite)
+    encoding = {name: {"zlib": True, "complevel": COMPRESSION} for name, v in dataset.variables.items() if v.size}
     with atomic_path(path) as tmp:
-        dataset.to_netcdf(tmp, engine="netcdf4")
+        dataset.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
     return path
 
 

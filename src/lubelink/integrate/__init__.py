@@ -17,30 +17,33 @@ Nothing here imports a physics module: the right-hand side, the event and its ra
 arguments.
 """
 
-from . import bulirsch_stoer, dop853, exponential
+from functools import lru_cache
+from importlib import import_module
+
 from .driver import Method, Segment, integrate
 from .scipy_methods import SCIPY_METHODS, scipy_method
 
 __all__ = ["METHODS", "COMPILED_METHODS", "SCIPY_METHODS", "method", "integrate", "Method", "Segment"]
 
-_COMPILED = {
-    "DOP853": Method("DOP853", dop853.init, dop853.step, dop853.dense, dop853.rows),
-    "bulirsch-stoer": Method("BulirschStoer", bulirsch_stoer.init, bulirsch_stoer.step, bulirsch_stoer.dense,
-                             bulirsch_stoer.rows, floats=bulirsch_stoer.FLOATS, ints=bulirsch_stoer.INTS,
-                             setup=bulirsch_stoer.setup),
-    "exponential": Method("exponential", exponential.init, exponential.step, exponential.dense, exponential.rows,
-                          floats=exponential.FLOATS, setup=exponential.setup),
-}
-#: Methods whose loop runs compiled.
+#: Methods whose loop runs compiled, and their modules (imported when first asked for).
+_COMPILED = {"DOP853": "dop853", "bulirsch-stoer": "bulirsch_stoer", "exponential": "exponential"}
 COMPILED_METHODS = tuple(_COMPILED)
 #: Every method name.
 METHODS = COMPILED_METHODS + SCIPY_METHODS
 
 
+@lru_cache(maxsize=None)
+def _compiled(name):
+    module = import_module(f".{_COMPILED[name]}", __name__)
+    return Method({"bulirsch-stoer": "BulirschStoer"}.get(name, name), module.init, module.step, module.dense,
+                  module.rows, floats=getattr(module, "FLOATS", 32), ints=getattr(module, "INTS", 16),
+                  setup=getattr(module, "setup", None))
+
+
 def method(name):
     """The :class:`Method` called ``name`` (one of :data:`METHODS`)."""
     if name in _COMPILED:
-        return _COMPILED[name]
+        return _compiled(name)
     if name in SCIPY_METHODS:
         return scipy_method(name)
     raise ValueError(f"unknown method {name!r}; choose one of {', '.join(METHODS)}")

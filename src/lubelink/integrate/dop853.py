@@ -8,9 +8,9 @@ in the steps where it is used (samples, events), as in SciPy.
 """
 
 import math
+import os
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _dop
 
 from lubelink._jit import jitable, kernel
 from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD, R_METHOD,
@@ -20,6 +20,26 @@ from .control import MAX_FACTOR, MIN_FACTOR, SAFETY, initial_step
 __all__ = ["init", "step", "dense", "rows", "ORDER"]
 
 ORDER = 8
+
+
+def _scipy_coefficients():
+    """SciPy's DOP853 tables, read from their module without importing ``scipy.integrate`` (most of a second)."""
+    import importlib.util
+
+    import scipy
+
+    path = os.path.join(scipy.__path__[0], "integrate", "_ivp", "dop853_coefficients.py")
+    if not os.path.isfile(path):  # another layout: the ordinary import
+        from scipy.integrate._ivp import dop853_coefficients
+
+        return dop853_coefficients
+    spec = importlib.util.spec_from_file_location("lubelink_scipy_dop853_coefficients", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_dop = _scipy_coefficients()
 _A = np.ascontiguousarray(_dop.A, dtype=float)  # row 12 holds the weights b
 _C = np.ascontiguousarray(_dop.C, dtype=float)
 _E = np.ascontiguousarray(np.vstack([_dop.E5, _dop.E3]), dtype=float)

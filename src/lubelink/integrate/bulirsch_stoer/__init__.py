@@ -74,8 +74,16 @@ References
 """
 
 from .kernels import dense, init, step
-from .solver import BulirschStoer, GBSDenseOutput
 from .tables import DEFAULT_MAX_ORDER, FLOATS, INTS, KMAX, rows, setup, step_number_sequence
+
+
+def __getattr__(name):
+    # the SciPy face imports scipy.integrate (most of a second): only when asked for
+    if name in ("BulirschStoer", "GBSDenseOutput"):
+        from . import solver
+
+        return getattr(solver, name)
+    raise AttributeError(name)
 
 __all__ = ["BulirschStoer", "GBSDenseOutput", "step_number_sequence", "init", "step", "dense", "rows", "setup",
            "FLOATS", "INTS", "KMAX", "DEFAULT_MAX_ORDER"]
