@@ -15,3 +15,16 @@ SHORT = {"solver.t_end": 0.3, "solver.output_step": 1e-3, "output.x_points": 21,
 @pytest.fixture
 def short():
     return dict(SHORT)
+
+
+def pytest_configure(config):
+    """Compile the kernels once, in the controlling process, before pytest-xdist starts its workers.
+
+    The workers then load them from Numba's on-disk cache instead of each compiling them (the
+    first compilation takes about a minute of CPU on a 2-core machine).
+    """
+    if hasattr(config, "workerinput"):  # a worker: the controller has compiled
+        return
+    from lubelink.warmup import compile_all
+
+    compile_all()

@@ -65,6 +65,10 @@ def build_parser():
     _add_config_args(p)
 
     sub.add_parser("scenarios", help="list the built-in scenarios", description="List the built-in scenarios.")
+    sub.add_parser("compile", help="compile the numerical kernels now (cached on disk)",
+                   description="Compile every numerical kernel (or load it from Numba's on-disk cache) and say how "
+                               "long it took: a first run in a new installation otherwise does this itself. Useful "
+                               "before a test session, on each worker of a cluster, or in a container image.")
     for module in EXTENSIONS:
         importlib.import_module(module).register_cli(sub, _add_config_args)
     return parser
@@ -172,7 +176,15 @@ def _cmd_scenarios(args):
     return 0
 
 
-COMMANDS = {"run": _cmd_run, "config": _cmd_config, "scenarios": _cmd_scenarios}
+def _cmd_compile(args):
+    from .warmup import compile_all
+
+    seconds = compile_all(progress=lambda message: print(message, file=sys.stderr, flush=True))
+    print(f"compiled (or loaded from the cache) in {seconds:.1f} s")
+    return 0
+
+
+COMMANDS = {"run": _cmd_run, "config": _cmd_config, "scenarios": _cmd_scenarios, "compile": _cmd_compile}
 
 
 def main(argv=None):
