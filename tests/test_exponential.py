@@ -33,7 +33,7 @@ def phi_reference(M, k):
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.05, 0.7, 1.0, 2.5])
-@pytest.mark.parametrize("h_omega", [1e-6, 0.3, 2.0, 40.0])
+@pytest.mark.parametrize("h_omega", [1e-6, 0.3, 0.999, 1.001, 2.0, 40.0])
 def test_phi_functions_of_a_block_against_the_augmented_exponential(zeta, h_omega):
     omega = 150.0
     ch = h_omega / omega
@@ -71,7 +71,7 @@ def forced(t, y, out, p):
 
 @kernel
 def no_event(t, y, p):
-    return 1.0, 0.0
+    return 1.0, 0.0, 0.0
 
 
 def run_exp(p, t_end, rtol=1e-8, atol=1e-12, t_eval=None, **kw):

@@ -27,8 +27,8 @@ def oscillator(t, y, out, p):
 
 @kernel
 def level(t, y, p):
-    """Event ``y[0] - p[1]`` and its rate ``y[1]``."""
-    return y[0] - p[1], y[1]
+    """Event ``y[0] - p[1]``, its rate ``y[1]`` and the bound of the rate, ``p[0]`` times the amplitude."""
+    return y[0] - p[1], y[1], p[0] * np.sqrt(y[0] ** 2 + (y[1] / p[0]) ** 2)
 
 
 def exact(t, w):
@@ -149,6 +149,57 @@ def test_the_detector_finds_a_dip_of_any_duration(depth):
     # the crossing time is ill-conditioned for a shallow dip: cos t is known to 1e-16 where its slope
     # is sqrt(2 depth), which at depth 1e-14 leaves the time a few parts in a thousand uncertain
     assert np.pi - seg.t_final == pytest.approx(np.arccos(1.0 - depth), rel=1e-3 if depth >= 1e-12 else 1e-2)
+
+
+@kernel
+def two_oscillators(t, y, out, p):
+    """``x_i'' = -w_i^2 x_i``, ``p = [w_1, w_2, level]``."""
+    out[0], out[1] = y[2], y[3]
+    out[2] = -p[0] ** 2 * y[0]
+    out[3] = -p[1] ** 2 * y[1]
+
+
+@kernel
+def sum_level(t, y, p):
+    """``x_1 + x_2 - level`` with the bound ``sum w_i a_i`` of its rate."""
+    bound = 0.0
+    for i in range(2):
+        bound += p[i] * np.sqrt(y[i] ** 2 + (y[2 + i] / p[i]) ** 2)
+    return y[0] + y[1] - p[2], y[2] + y[3], bound
+
+
+@kernel
+def sum_level_unbounded(t, y, p):
+    return y[0] + y[1] - p[2], y[2] + y[3], np.inf
+
+
+@pytest.mark.parametrize("m", ["DOP853", "exponential"])
+def test_the_rate_bound_skips_samples_but_no_zero(m):
+    """A slow oscillation with a fast ripple crosses a level only where both are near their minima.
+
+    ``cos t + 1e-3 cos(41 t) = -1.0009`` first near ``t = pi``; with the rate bound most of the
+    ripple's samples are skipped, and the zero found is the same as with every sample taken, and
+    as the closed form's (bisected on a fine grid).
+    """
+    from scipy.optimize import brentq
+
+    p = np.array([1.0, 41.0, -1.0009])
+    y0 = np.array([1.0, 1e-3, 0.0, 0.0])
+
+    def g(t):
+        return np.cos(t) + 1e-3 * np.cos(41 * t) - p[2]
+
+    grid = np.linspace(0, 4, 400_001)
+    first = np.argmax(g(grid) <= 0)
+    t_exact = brentq(g, grid[first - 1], grid[first], xtol=1e-15)
+    found = []
+    for event in (sum_level, sum_level_unbounded):
+        seg = integrate(method(m), two_oscillators, event, p, 0.0, y0, 4.0, np.zeros(0), rtol=1e-11, atol=1e-13,
+                        event_sign=-1, event_resolution=2 * np.pi / 41 / 4, options={"omega": p[:2], "zeta": 0.0})
+        assert seg.status == "event"
+        found.append(seg.t_final)
+    assert found[0] == pytest.approx(t_exact, abs=1e-8)
+    assert found[1] == pytest.approx(t_exact, abs=1e-8)
 
 
 def test_events_rising_through_zero():

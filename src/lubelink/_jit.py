@@ -84,8 +84,10 @@ class _PyKernel:
 def jitable(func=None, *, inline=False):
     """Mark ``func`` as compilable into kernels; from Python it stays the plain function.
 
-    ``inline=True`` inlines it into its callers at compile time (for small functions called in
-    hot loops with large arguments, which a call would copy).
+    ``inline=True`` inlines it into its callers in Numba's IR, before typing: for the functions
+    called in the hot loops with many arguments, where a call costs more than the arithmetic (it
+    passes every array and tuple member). Such a function must not rely on a ``None`` argument
+    to prune its branches (the pruning is by the types of a compiled function's own arguments).
     """
     if func is None:
         return lambda f: jitable(f, inline=inline)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._jit import jitable
+from ._jit import ENABLED, jitable, kernel
 
 __all__ = [
     "wavenumbers",
@@ -190,7 +190,29 @@ def deflection(q, x, rod_length):
     """
     q = np.asarray(q, dtype=float)
     _, bx = _mode_shapes(x, q.shape[-1], rod_length)
-    return q @ np.sin(bx).T
+    shapes = np.sin(bx).T
+    if ENABLED and q.ndim == 2:
+        return modal_sum(np.ascontiguousarray(q), np.ascontiguousarray(shapes))
+    return q @ shapes
+
+
+@kernel
+def modal_sum(q, shapes):
+    """``q @ shapes`` for ``q`` shape ``(T, N)``, ``shapes`` ``(N, M)``, by loops.
+
+    The same product as NumPy's ``@``, without BLAS: for the few modes here a threaded BLAS
+    spends more on its threads than on the arithmetic (8 ms instead of 0.3 for 2001 samples of
+    7 modes at 101 points on a busy 2-core machine).
+    """
+    T, N = q.shape
+    M = shapes.shape[1]
+    out = np.zeros((T, M))
+    for i in range(T):
+        for n in range(N):
+            a = q[i, n]
+            for k in range(M):
+                out[i, k] += a * shapes[n, k]
+    return out
 
 
 def slope(q, x, rod_length):

@@ -28,6 +28,7 @@ __all__ = [
     "thinnest_film",
     "approach_velocity",
     "gap_rate",
+    "gap_rate_bound",
     "restitution_jump",
     "impact_energy_loss",
     "lankarani_nikravesh",
@@ -152,6 +153,27 @@ def approach_velocity(q, q_dot, x_c, V_c, rod_length):
 def gap_rate(q, q_dot, x_c, at_edge, side, V_r, rod_length):
     """Rate of the thinnest film [m/s]: minus the approach velocity on ``side`` at ``x_c``."""
     return -side * approach_velocity(q, q_dot, x_c, V_r if at_edge else 0.0, rod_length)
+
+
+@jitable
+def gap_rate_bound(q, q_dot, omega_n, omega, V_r, rod_length):
+    """A bound of ``|d xi_min/dt|`` [m/s] while the modes keep their present amplitudes.
+
+    Mode ``n`` oscillating freely at ``w_n = sqrt(omega_n^2 - omega^2)`` (the link spinning at
+    ``omega`` softens it) has amplitude ``a_n = sqrt(q_n^2 + (q_dot_n / w_n)^2)`` [m], so
+    ``|u2_dot| <= sum w_n a_n`` and the slope term of a pad edge sliding at ``V_r`` adds at most
+    ``|V_r| sum beta_n a_n``. The film over the pad moves no faster than that (its minimum neither).
+    Returns infinity for a mode that does not oscillate (``omega >= omega_n``).
+    """
+    bound = 0.0
+    for n in range(q.shape[0]):
+        w2 = omega_n[n] * omega_n[n] - omega * omega
+        if w2 <= 0.0:
+            return np.inf
+        w = np.sqrt(w2)
+        a = np.sqrt(q[n] * q[n] + q_dot[n] * q_dot[n] / w2)
+        bound += a * (w + abs(V_r) * (n + 1) * np.pi / rod_length)
+    return bound
 
 
 @jitable

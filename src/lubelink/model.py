@@ -99,7 +99,7 @@ def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
                             phase.v_minus, F)
 
 
-@jitable
+@jitable(inline=True)
 def rhs_given(t, kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
     A_O2, omega, alpha, x_star, V_r, reaction, angle, v_O1 = kin
@@ -147,15 +147,18 @@ def thinnest_given(x_star, y, p):
 
 @jitable
 def gap_given(t, kin, y, p):
-    """``(gap, rate)``: thinnest film above breakdown, ``xi_min - min_film`` [m], and its rate [m/s]."""
+    """``(gap, rate, bound)``: thinnest film above breakdown, ``xi_min - min_film`` [m], its rate and a bound of the rate [m/s]."""
     N = p.basis.modes
+    L = p.basis.rod_length
+    q, q_dot = y[:N], y[N:]
     xi, x_c, at_edge, side = thinnest_given(kin[3], y, p)
-    return xi - p.contact.min_film, contact.gap_rate(y[:N], y[N:], x_c, at_edge, side, kin[4], p.basis.rod_length)
+    return (xi - p.contact.min_film, contact.gap_rate(q, q_dot, x_c, at_edge, side, kin[4], L),
+            contact.gap_rate_bound(q, q_dot, p.basis.omega_n, kin[1], kin[4], L))
 
 
 @kernel
 def gap(t, y, p):
-    """The event: ``(gap [m], rate [m/s])`` of the thinnest film above breakdown."""
+    """The event: ``(gap [m], rate [m/s], bound of the rate [m/s])`` of the thinnest film above breakdown."""
     return gap_given(t, motion_at(t, p.motion), y, p)
 
 
@@ -171,8 +174,7 @@ def make_params(config: Config, table: MotionTable | None) -> Params:
     N = b.modes
     omega_n = beam.natural_frequencies(N, L, b.youngs_modulus, b.second_moment, b.density, b.area)
     basis = Basis(int(N), float(L), _c(omega_n), float(beam.modal_mass(b.density, b.area, L)))
-    watched = config.film.enabled or config.contact.law != "none"
-    pad = film.pad_tables(N, L, config.film) if watched else None
+    pad = film.pad_tables(N, L, config.film)
     if table is None:
         table = SliderCrank(config.mechanism).table(config.collar.mass)
     if table.knots is not None:
@@ -248,6 +250,11 @@ class Model:
             return self.motion.kinematics(t)
         return motion_at(float(t), self.params.motion)
 
+    @property
+    def watched(self) -> bool:
+        """Whether the film's gap is watched (a film, or a contact law): the event of :meth:`functions`."""
+        return self.config.film.enabled or self.config.contact.law != "none"
+
     def functions(self):
         """``(rhs, event)`` for the driver: kernels, or Python functions on the ``numpy`` backend."""
         if self.compiled:
@@ -314,8 +321,7 @@ class Model:
         p = self.params
         x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
         y = np.ascontiguousarray(y, dtype=float)
-        pad = p.pad if p.pad is not None else film.pad_tables(N, p.basis.rod_length, self.config.film)
-        force = contact.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, pad,
+        force = contact.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
                                         p.basis.rod_length, float(phase[0]), float(phase[1]), F)
         return F, float(force)
 

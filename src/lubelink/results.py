@@ -60,6 +60,11 @@ VARIABLES = {
 #: Version of the results layout; :func:`load` refuses other major versions.
 FORMAT_VERSION = "1.0"
 
+#: Gauss-Legendre nodes per piece between two ``X`` of the pad pressure. The film is a sum of
+#: sines of wavelength ``2 L / N`` much longer than a piece, so 4 nodes (exact to degree 7) leave
+#: the pressure within rounding (1e-8 of its peak) of 16 nodes on the paper's runs.
+PRESSURE_NODES = 4
+
 
 class ResultsFileError(ValueError):
     """A results file that cannot be written or read as lubelink results."""
@@ -158,7 +163,7 @@ def collect(result) -> Results:
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
         coords["X"] = _entry("X", X)
-        tables = film.pressure_points(X, N, L, 8, fm.grid_points if fm.cavitation == "reynolds" else 0)
+        tables = film.pressure_points(X, N, L, PRESSURE_NODES, fm.grid_points if fm.cavitation == "reynolds" else 0)
         pressure = _select(film.pad_pressure_many, compiled)
         for side, name in zip(model.sides, ("pressure", "pressure_lower")):
             data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))

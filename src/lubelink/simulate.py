@@ -101,7 +101,7 @@ def run(config, motion=None, progress=None, model=None) -> Run:
     s = config.solver
     deadline = start + s.max_wall_time if np.isfinite(s.max_wall_time) else None
     t_eval = sample_times(s)
-    monitored = config.film.enabled or config.contact.law != "none"
+    monitored = model.watched
     resolution = event_resolution(model)
     out_method = method_name(config)
     method = integrate.method(out_method)

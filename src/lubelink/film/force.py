@@ -161,7 +161,7 @@ def _half_sommerfeld_side(side, ws, nodes, f, B, pad, S, F):
     return -side * B * total
 
 
-@jitable
+@jitable(inline=True)
 def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     """Add the modal forces of the film on ``side`` to ``F`` [N]; return its resultant along +j [N].
 
@@ -219,7 +219,7 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     return side * B * total
 
 
-@jitable
+@jitable(inline=True)
 def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
     """Modal film forces added to ``F`` [N]; returns the resultant film force on the link along +j [N].
 
@@ -240,15 +240,13 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
         Film parameters.
     B : float
         Pad (link) width [m].
-    pad : PadTables or None
-        Tables of the pad geometry (None: no film and no gap to watch).
+    pad : PadTables
+        Tables of the pad geometry.
     L : float
         Link length [m] (the wavenumbers are ``beta_n = n pi / L``).
     F : ndarray, shape ``(N,)``
         Accumulates the modal forces.
     """
-    if pad is None:  # no film and no gap: compiles to nothing
-        return 0.0
     if f.model == NO_FILM:
         return 0.0
     x0 = pad_start(x_star, f.pad_length, f.pad_reference)

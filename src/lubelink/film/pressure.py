@@ -32,8 +32,9 @@ def pressure_on_breaks(breaks, xi, xi_t, V_r, mu, w, Sm, out):
     :func:`pressure_gradient`. Writes ``out``, shape ``(M + 1,)``.
     """
     M, n = xi.shape
-    Q = np.zeros((M, n))
-    if xi_t.shape[1] > 0:
+    squeeze = xi_t.shape[1] > 0
+    Q = np.zeros((M, n) if squeeze else (1, 1))
+    if squeeze:
         Q_start = 0.0
         for k in range(M):
             h = breaks[k + 1] - breaks[k]
@@ -53,14 +54,15 @@ def pressure_on_breaks(breaks, xi, xi_t, V_r, mu, w, Sm, out):
             inv3 = 1.0 / (xi[k, j] * xi[k, j] * xi[k, j])
             I1 += h * w[j] * xi[k, j] * inv3
             I2 += h * w[j] * inv3
-            I3 += h * w[j] * Q[k, j] * inv3
+            if squeeze:
+                I3 += h * w[j] * Q[k, j] * inv3
     C = reynolds_constant(I1, I2, I3, V_r, mu)
     out[0] = 0.0
     for k in range(M):
         h = breaks[k + 1] - breaks[k]
         acc = 0.0
         for j in range(n):
-            acc += h * w[j] * pressure_gradient(xi[k, j], Q[k, j], C, V_r, mu)
+            acc += h * w[j] * pressure_gradient(xi[k, j], Q[k, j] if squeeze else 0.0, C, V_r, mu)
         out[k + 1] = out[k] + acc
     out[M] = 0.0  # the boundary condition; the running integral ends at 0 up to rounding
 
@@ -84,11 +86,15 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
         return out
     p_cav = f.cavitation_pressure - f.ambient_pressure
     n_pts = sin_p.shape[1]
+    s0 = np.empty(N)
+    c0 = np.empty(N)
+    xi = np.empty(n_pts)
     for i in range(T):
         x0 = pad_start(x_star[i], f.pad_length, f.pad_reference)
-        s0 = np.sin(np.arange(1, N + 1) * np.pi / L * x0)
-        c0 = np.cos(np.arange(1, N + 1) * np.pi / L * x0)
-        xi = np.full(n_pts, 0.5 * f.clearance)
+        for m in range(N):
+            s0[m] = np.sin((m + 1) * np.pi / L * x0)
+            c0[m] = np.cos((m + 1) * np.pi / L * x0)
+        xi[:] = 0.5 * f.clearance
         add_deflection(q[i], s0, c0, sin_p, cos_p, -side, xi)
         if f.cavitation == REYNOLDS:
             _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])

@@ -34,6 +34,7 @@ F_RES = 10  # longest interval between two samples of the event [time units]; 0:
 F_GOLD = 11  # event value and rate at the start of the step
 F_DOLD = 12
 F_TBEFORE = 13  # last located time on the near side of an event
+F_BOLD = 14  # bound of the event's rate at the start of the step (inf: unknown)
 F_METHOD = 16
 
 # slots of ist

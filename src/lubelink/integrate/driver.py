@@ -12,8 +12,10 @@ then any Python callables serve as method and problem, which is how SciPy's solv
 Signatures (``P`` the type of ``p``)::
 
     rhs(t, y, out, p)                      writes dy/dt into out
-    event(t, y, p) -> (float, float)       the event function (before ``sign``) and its time
-                                           derivative along solutions
+    event(t, y, p) -> (float, float, float)
+                                           the event function (before ``sign``), its time
+                                           derivative along solutions and a bound of that
+                                           derivative's size over about a step (``inf``: none known)
     init(rhs, p, W, fst, ist)              first evaluation and step size
     step(rhs, p, W, fst, ist) -> bool      one accepted step; False if the step size underflows
     dense(rhs, p, W, fst, ist, t, out)     dense output of the last step at t
@@ -29,7 +31,7 @@ from functools import lru_cache
 import numpy as np
 
 from lubelink._jit import ENABLED, kernel
-from ._layout import (EVENT, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, F_RES, F_T, F_TBEFORE, F_TEND, F_TFINAL,
+from ._layout import (EVENT, F_BOLD, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, F_RES, F_T, F_TBEFORE, F_TEND, F_TFINAL,
                       F_TOLD, F_TPAUSE, F_TSTOP, FAIL_NONFINITE, FAIL_RHS, FAIL_SMALL_STEP, FAILED, FINISHED, R_ATOL, R_RTOL,
                       R_Y, R_YBEFORE, R_YFINAL, R_YOLD, RUNNING, S_ARMED, S_EVENT, S_FAIL, S_IEVAL, S_INIT,
                       S_MAXSTEPS, S_NFEV, S_NREJ, S_NSTEPS)
@@ -97,9 +99,10 @@ def advance(init, step, dense, rhs, event, p, sign, t_eval, out, W, fst, ist):
         ist[S_INIT] = 1
         init(rhs, p, W, fst, ist)
         if ist[S_EVENT] != 0:
-            g, d = event(fst[F_T], W[R_Y], p)
+            g, d, bound = event(fst[F_T], W[R_Y], p)
             fst[F_GOLD] = sign * g
             fst[F_DOLD] = sign * d
+            fst[F_BOLD] = bound
             ist[S_ARMED] = 1 if fst[F_GOLD] > 0.0 else 0
         if fst[F_T] >= fst[F_TEND]:
             fst[F_TFINAL] = fst[F_T]
@@ -135,9 +138,10 @@ def advance(init, step, dense, rhs, event, p, sign, t_eval, out, W, fst, ist):
             if ist[S_ARMED] != 0:
                 hit = locate(dense, rhs, event, p, sign, W, fst, ist, t_old, t_new)
             else:
-                g, d = event(t_new, W[R_Y], p)
+                g, d, bound = event(t_new, W[R_Y], p)
                 fst[F_GOLD] = sign * g
                 fst[F_DOLD] = sign * d
+                fst[F_BOLD] = bound
                 ist[S_ARMED] = 1 if fst[F_GOLD] > 0.0 else 0
         t_stop = fst[F_TFINAL] if hit else t_new
         i = ist[S_IEVAL]
@@ -162,7 +166,7 @@ def advance(init, step, dense, rhs, event, p, sign, t_eval, out, W, fst, ist):
 @kernel
 def no_event(t, y, p):
     """An event that never happens (for segments that watch none)."""
-    return 1.0, 0.0
+    return 1.0, 0.0, 0.0
 
 
 # --- first-class functions ------------------------------------------------------------------------
@@ -212,7 +216,7 @@ def signatures(p_type):
     f8, i8 = types.float64, types.int64
     vec, mat, ivec = f8[::1], f8[:, ::1], i8[::1]
     rhs = types.void(f8, vec, vec, p_type)
-    event = types.UniTuple(f8, 2)(f8, vec, p_type)
+    event = types.UniTuple(f8, 3)(f8, vec, p_type)
     fr = types.FunctionType(rhs)
     init = types.void(fr, p_type, mat, vec, ivec)
     step = types.boolean(fr, p_type, mat, vec, ivec)
@@ -242,7 +246,7 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
     method : Method
         The integrator.
     rhs, event : kernel or callable
-        The problem (see the module docstring); ``event`` (``(g, g')``) is ignored when
+        The problem (see the module docstring); ``event`` (``(g, g', bound)``) is ignored when
         ``event_sign`` is 0. Kernels (``@kernel``) when ``compiled``; else anything callable
         from Python (a kernel then runs compiled, its ``py_func`` as Python).
     p : object

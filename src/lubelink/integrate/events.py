@@ -1,14 +1,18 @@
 """Locating the first zero of an event function inside a step, on the dense output.
 
-The event is ``g(t) = sign * gap(t, y(t))``, and the caller knows its rate ``g'(t)`` in closed
-form: ``event(t, y, p)`` returns both (before ``sign``). A zero counts when ``g`` falls from positive to zero or below. Inside
-an accepted step ``[t_old, t_new]`` it is looked for
+The event is ``g(t) = sign * gap(t, y(t))``; the caller knows its rate ``g'(t)`` in closed form
+and a bound ``D`` of ``|g'|`` valid over about a step: ``event(t, y, p)`` returns all three
+(before ``sign``; ``D = inf`` if none is known). A zero counts when ``g`` falls from positive to
+zero or below. Inside an accepted step ``[t_old, t_new]``:
 
-* at equal sub-steps no longer than ``F_RES`` (the caller's bound: a fraction of the fastest period
-  of the system), where ``g`` and ``g'`` are sampled on the dense output;
-* at a sign change of ``g`` between samples (Brent's method on ``g``);
-* and at every local minimum of ``g``: a change of ``g'`` from negative to positive between two
-  samples is refined by Brent's method on ``g'`` and ``g`` is tested there. So a graze, ``g``
+* where the bound proves ``g > 0`` it is not sampled: on ``[a, b]``,
+  ``g >= (g(a) + g(b) - D (b - a)) / 2`` and ``g(t) >= g(a) - D (t - a)``, with ``D`` twice the
+  larger of the bounds at the step's ends (a margin for the amplitudes' change over the step);
+* elsewhere ``g`` and ``g'`` are sampled on the dense output at sub-steps no longer than
+  ``F_RES`` (the caller's bound: a fraction of the fastest period of the system);
+* a sign change of ``g`` between samples is refined by Brent's method on ``g``;
+* and so is every local minimum of ``g``: a change of ``g'`` from negative to positive between
+  two samples is refined by Brent's method on ``g'`` and ``g`` is tested there. So a graze, ``g``
   dipping below zero and back between two samples, is found whatever its duration, by every
   method at every tolerance. (A minimum is refined only where a cubic Hermite estimate from the
   samples puts it below half the smaller sampled value; a shallow ripple costs nothing.)
@@ -26,12 +30,13 @@ import math
 import numpy as np
 
 from lubelink._jit import jitable
-from ._layout import F_DOLD, F_GOLD, F_RES, F_TBEFORE, F_TFINAL, R_BUF, R_Y, R_YBEFORE, R_YFINAL
+from ._layout import F_BOLD, F_DOLD, F_GOLD, F_RES, F_TBEFORE, F_TFINAL, R_BUF, R_Y, R_YBEFORE, R_YFINAL
 
 __all__ = ["locate"]
 
 EPS = np.finfo(float).eps
 MAX_ITER = 200
+MARGIN = 2.0  # the rate bound used is MARGIN times the larger of the bounds at the step's ends
 
 
 @jitable
@@ -160,42 +165,45 @@ def _hermite_minimum(a, b, ga, gb, da, db):
 def locate(dense, rhs, event, p, sign, W, fst, ist, t_old, t_new):
     """Whether the event has a zero in ``(t_old, t_new]``; if so its bracket is written (see module docstring).
 
-    ``fst[F_GOLD]``, ``fst[F_DOLD]``: ``g`` and ``g'`` at ``t_old``; on return they hold the values
-    at ``t_new``.
+    ``fst[F_GOLD]``, ``fst[F_DOLD]``, ``fst[F_BOLD]``: ``g``, ``g'`` and the rate bound at ``t_old``;
+    on return they hold the values at ``t_new``.
     """
-    g_new, d_new = event(t_new, W[R_Y], p)
+    g_new, d_new, bound_new = event(t_new, W[R_Y], p)
     g_new *= sign
     d_new *= sign
     g_a = fst[F_GOLD]
     d_a = fst[F_DOLD]
+    D = MARGIN * max(fst[F_BOLD], bound_new)
     fst[F_GOLD] = g_new
     fst[F_DOLD] = d_new
+    fst[F_BOLD] = bound_new
     res = fst[F_RES]
-    n_sub = 1
-    if res > 0.0 and t_new - t_old > res:
-        n_sub = int(math.ceil((t_new - t_old) / res))
-    if n_sub == 1 and g_new > 0.0 and not (d_a < 0.0 and d_new > 0.0):
-        return False
+    if res <= 0.0:
+        res = t_new - t_old
     a = t_old
-    for k in range(1, n_sub + 1):
-        if k == n_sub:
+    while True:
+        if g_a > 0.0 and g_new > 0.0 and g_a + g_new > D * (t_new - a):
+            return False  # g > 0 on [a, t_new]
+        b = a + (max(res, g_a / D) if D > 0.0 else res)  # g > 0 on [a, a + g_a / D) in any case
+        if b >= t_new or t_new - b < 1e-3 * res:
             b, g_b, d_b = t_new, g_new, d_new
         else:
-            b = t_old + (t_new - t_old) * k / n_sub
             dense(rhs, p, W, fst, ist, b, W[R_BUF])
-            g_b, d_b = event(b, W[R_BUF], p)
+            g_b, d_b, _ = event(b, W[R_BUF], p)
             g_b *= sign
             d_b *= sign
         if g_b <= 0.0:
             root = _brent(0, dense, rhs, event, p, sign, W, fst, ist, a, b, g_a, g_b)
             _bracket(dense, rhs, event, p, sign, W, fst, ist, a, b, root)
             return True
-        if d_a < 0.0 and d_b > 0.0 and _hermite_minimum(a, b, g_a, g_b, d_a, d_b) < 0.5 * min(g_a, g_b):
+        proved = g_a > 0.0 and g_a + g_b > D * (b - a)
+        if not proved and d_a < 0.0 and d_b > 0.0 and _hermite_minimum(a, b, g_a, g_b, d_a, d_b) < 0.5 * min(g_a, g_b):
             t_m = _brent(1, dense, rhs, event, p, sign, W, fst, ist, a, b, d_a, d_b)
             g_m = _value(0, dense, rhs, event, p, sign, W, fst, ist, t_m)
             if g_m <= 0.0:
                 root = _brent(0, dense, rhs, event, p, sign, W, fst, ist, a, t_m, g_a, g_m)
                 _bracket(dense, rhs, event, p, sign, W, fst, ist, a, t_m, root)
                 return True
+        if b == t_new:
+            return False
         a, g_a, d_a = b, g_b, d_b
-    return False

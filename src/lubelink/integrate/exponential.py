@@ -52,6 +52,8 @@ otherwise, so small and large ``h omega`` are both accurate.
 """
 
 
+import math
+
 import numpy as np
 
 from lubelink._jit import jitable, kernel
@@ -62,7 +64,7 @@ from .control import MIN_FACTOR, initial_step, scaled_rms, step_factor
 __all__ = ["init", "step", "dense", "rows", "setup", "phi_functions", "phi_block"]
 
 ORDER = 4
-_FACTORIAL = (1.0, 1.0, 2.0, 6.0, 24.0)
+_INV_FACTORIAL = (1.0, 1.0, 0.5, 1.0 / 6.0, 1.0 / 24.0)
 
 R_LIN = R_METHOD  # [omega_1..omega_N, zeta_1..zeta_N]
 R_G = R_LIN + 1  # G_1 ... G_5 (G_1 also of the last accepted step, for the dense output)
@@ -96,53 +98,62 @@ def setup(W, fst, ist, options):
     W[R_LIN, omega.size:] = zeta
 
 
+#: ``1 / (j + 5)!``, j = 0..16: the series of ``phi_5``; for ``|z| < 1`` its remainder is below ``1 / 22! < 1e-21``.
+_SERIES5 = tuple(1.0 / math.factorial(j + 5) for j in range(17))
+
+
 @jitable
-def phi_functions(z, out):
-    """``phi_0(z) ... phi_{K-1}(z)`` into ``out`` (``K = out.size``, complex ``z``)."""
-    K = out.shape[0]
-    if abs(z) < 1.0:
-        top = K - 1
-        s = 0.0 + 0.0j
-        term = 1.0 + 0.0j  # z^j / (j + top)!
-        for k in range(1, top + 1):
-            term /= k
-        for j in range(24):  # |z|^24 / 24! < 2e-24: converged well before
-            s += term
-            term *= z / (j + top + 1)
-            if abs(term) < 1e-17 * abs(s):
-                break
-        out[top] = s
-        for k in range(top - 1, -1, -1):
-            out[k] = z * out[k + 1] + 1.0 / _FACTORIAL[k]
-        return
-    out[0] = np.exp(z)
-    for k in range(K - 1):
-        out[k + 1] = (out[k] - 1.0 / _FACTORIAL[k]) / z
+def phi_functions(z):
+    """``(phi_0(z), ..., phi_5(z))`` for complex ``z``.
+
+    For ``|z| < 1`` ``phi_5`` is summed as its series (Horner) and the others follow downwards
+    (``phi_k = z phi_{k+1} + 1/k!``, stable there); otherwise ``phi_0 = exp(z)`` and upwards
+    (``phi_{k+1} = (phi_k - 1/k!) / z``, stable for ``|z| >= 1``).
+    """
+    if z.real * z.real + z.imag * z.imag < 1.0:
+        p5 = 0.0 + 0.0j
+        for j in range(16, -1, -1):
+            p5 = p5 * z + _SERIES5[j]
+        p4 = z * p5 + _INV_FACTORIAL[4]
+        p3 = z * p4 + _INV_FACTORIAL[3]
+        p2 = z * p3 + _INV_FACTORIAL[2]
+        p1 = z * p2 + 1.0
+        p0 = z * p1 + 1.0
+        return p0, p1, p2, p3, p4, p5
+    w = 1.0 / z
+    p0 = np.exp(z)
+    p1 = (p0 - 1.0) * w
+    p2 = (p1 - 1.0) * w
+    p3 = (p2 - _INV_FACTORIAL[2]) * w
+    p4 = (p3 - _INV_FACTORIAL[3]) * w
+    p5 = (p4 - _INV_FACTORIAL[4]) * w
+    return p0, p1, p2, p3, p4, p5
 
 
 @jitable
 def phi_block(omega, zeta, ch, out_a, out_b):
-    """``phi_k(M) = a_k I + b_k M`` for ``M = ch [[0, 1], [-omega^2, -2 zeta omega]]``, ``k < out_a.size``."""
+    """``phi_k(M) = a_k I + b_k M`` for ``M = ch [[0, 1], [-omega^2, -2 zeta omega]]``, ``k < out_a.size <= 5``."""
     K = out_a.shape[0]
     r = np.sqrt(complex(zeta * zeta - 1.0))
     l1 = ch * omega * (-zeta + r)
     l2 = ch * omega * (-zeta - r)
-    f1 = np.empty(K + 1, dtype=np.complex128)
-    f2 = np.empty(K + 1, dtype=np.complex128)
     if abs(l1 - l2) > 1e-7 * max(1.0, abs(l1)):
-        phi_functions(l1, f1)
-        if zeta < 1.0:  # conjugate eigenvalues of a real matrix: phi_k(l2) = conj(phi_k(l1))
+        f1 = phi_functions(l1)
+        if zeta < 1.0:  # conjugate eigenvalues of a real matrix: phi_k(l2) = conj(phi_k(l1)), b = Im / Im
+            inv = 1.0 / l1.imag
             for k in range(K):
-                f2[k] = f1[k].conjugate()
-        else:
-            phi_functions(l2, f2)
+                b = f1[k].imag * inv
+                out_b[k] = b
+                out_a[k] = f1[k].real - b * l1.real
+            return
+        f2 = phi_functions(l2)
         for k in range(K):
             b = (f1[k] - f2[k]) / (l1 - l2)
             out_b[k] = b.real
             out_a[k] = (f1[k] - b * l1).real
         return
     mu = 0.5 * (l1 + l2)
-    phi_functions(mu, f1)
+    f1 = phi_functions(mu)
     for k in range(K):
         d = f1[k] - k * f1[k + 1]  # phi_k' = phi_k - k phi_{k+1}
         out_b[k] = d.real
@@ -260,26 +271,25 @@ def _stages(rhs, p, W, ist, t, h):
 
 
 @jitable
-def _extension3(W, h, theta, r_y, r_g1, r_g4, r_g5, out):
+def _extension3(W, h, theta, row_phi, r_y, r_g1, r_g4, r_g5, out):
     """Third-order continuous extension of a step at ``theta``, into ``out``.
 
     ``y(t_n + theta h) = phi_0(theta h A) y_n + h [b_1(theta) G_1 + b_4(theta) G_4 + b_5(theta) G_5]``
     with ``b_5 = 4 theta^2 phi_2 - 8 theta^3 phi_3``, ``b_4 = 4 theta^3 phi_3 - theta^2 phi_2``,
     ``b_1 = theta phi_1 - b_4 - b_5`` (``phi_k = phi_k(theta h A)``): the conditions of order
     three at ``theta``, and the step's weights at ``theta = 1``. Rows ``r_*`` hold ``y_n`` and
-    the stage loads.
+    the stage loads; rows ``row_phi ..`` the tables of ``phi_0 .. phi_3`` of ``theta h A``.
     """
     n = W.shape[1]
-    _tables(W, h, theta, R_THETA, 4)
     out[:] = 0.0
-    _apply(W, R_THETA, W[r_y], out, 1.0)
-    _apply(W, R_THETA + 1, W[r_g1], out, theta * h)
+    _apply(W, row_phi, W[r_y], out, 1.0)
+    _apply(W, row_phi + 1, W[r_g1], out, theta * h)
     for m in range(n):  # the phi_2 terms: theta^2 (-3 G_1 - G_4 + 4 G_5)
         W[R_U, m] = theta * theta * (-3.0 * W[r_g1, m] - W[r_g4, m] + 4.0 * W[r_g5, m])
-    _apply(W, R_THETA + 2, W[R_U], out, h)
+    _apply(W, row_phi + 2, W[R_U], out, h)
     for m in range(n):  # the phi_3 terms: theta^3 (4 G_1 + 4 G_4 - 8 G_5)
         W[R_U, m] = theta**3 * (4.0 * W[r_g1, m] + 4.0 * W[r_g4, m] - 8.0 * W[r_g5, m])
-    _apply(W, R_THETA + 3, W[R_U], out, h)
+    _apply(W, row_phi + 3, W[R_U], out, h)
 
 
 #: Monomial coefficients of the cubic through ``sigma = 1/4, 1/2, 1`` (values minus the one at 0).
@@ -298,9 +308,10 @@ def _load_cubic(rhs, p, W, ist, t, h):
     rhs(t + h, W[R_YNEW], W[R_FU], p)
     ist[S_NFEV] += 1
     _load(W, W[R_YNEW], W[R_FU], W[R_GNEW])
+    _tables(W, h, 0.25, R_THETA, 4)
     for j in range(2):
         sigma = 0.25 * (j + 1)
-        _extension3(W, h, sigma, R_Y, R_G, R_G + 3, R_G + 4, W[R_ERR])
+        _extension3(W, h, sigma, R_THETA if j == 0 else R_HALF, R_Y, R_G, R_G + 3, R_G + 4, W[R_ERR])
         rhs(t + sigma * h, W[R_ERR], W[R_FU], p)
         ist[S_NFEV] += 1
         _load(W, W[R_ERR], W[R_FU], W[R_Q + 1 + j])
