@@ -34,6 +34,12 @@ def test_default_run_is_the_paper_scenario_and_names_its_file(tmp_path):
     assert again.returncode == 2 and "--overwrite" in again.stderr
 
 
+def test_a_scenario_by_name_in_place_of_the_file(tmp_path):
+    r = cli("run", "paper-dry", "-q", *SHORT_ARGS, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert lubelink.results.config_of(lubelink.load(tmp_path / "paper-dry.nc")).film.model == "none"
+
+
 def test_toml_file_and_overrides(tmp_path):
     conf = tmp_path / "mine.toml"
     conf.write_text('scenario = "paper-dry"\n[beam]\nmodes = 3\n')
@@ -49,6 +55,7 @@ def test_toml_file_and_overrides(tmp_path):
     (["run", "--set", "modes"], "section.key=value"),
     (["run", "--scenario", "papper"], "did you mean 'paper'"),
     (["run", "missing.toml"], "no such file"),
+    (["run", "paper-dri"], "did you mean 'paper-dry'"),
     (["run", "-o", "/nonexistent-dir/x.nc"], "does not exist"),
     (["config", "--set", "mechanism.crank_length=2.0"], "cannot turn"),
 ])

@@ -12,7 +12,7 @@ import importlib
 import sys
 from pathlib import Path
 
-from .errors import UsageError
+from .errors import UsageError, suggest
 
 __all__ = ["main", "resolve_args", "UsageError"]
 
@@ -31,8 +31,9 @@ EXTENSIONS = ("lubelink.paper", "lubelink.sweep")
 
 
 def _add_config_args(p):
-    p.add_argument("config", nargs="?", metavar="CONFIG.toml",
-                   help="TOML configuration file (its top-level 'scenario' key names the base; default 'paper')")
+    p.add_argument("config", nargs="?", metavar="CONFIG.toml|SCENARIO",
+                   help="TOML configuration file (its top-level 'scenario' key names the base) or the name of "
+                        "a built-in scenario (paper, paper-dry, paper-impact); default 'paper'")
     p.add_argument("--scenario", metavar="NAME",
                    help="built-in scenario to start from when no CONFIG is given: paper, paper-dry, paper-impact")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
@@ -82,8 +83,11 @@ def resolve_args(args):
         raise UsageError("give either CONFIG.toml or --scenario, not both "
                          "(a file picks its base with its top-level 'scenario' key)")
     if args.config and not Path(args.config).is_file():
-        hint = f" (did you mean --scenario {args.config}?)" if args.config in SCENARIOS else ""
-        raise UsageError(f"CONFIG.toml = {args.config!r}: no such file{hint}")
+        if args.config in SCENARIOS:  # `lubelink run paper-dry`: a scenario by name
+            args.config, args.scenario = None, args.config
+        else:
+            raise UsageError(f"CONFIG.toml = {args.config!r}: no such file or scenario"
+                             + suggest(args.config, SCENARIOS))
     overrides = dict(parse_override(text) for text in args.overrides)
     source = args.config or args.scenario or "paper"
     return source, resolve(source, overrides)

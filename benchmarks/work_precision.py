@@ -1,0 +1,129 @@
+"""Work-precision diagrams: error against wall time of each compiled method, 1 to 15 modes, dry, film, impacts.
+
+For each case (``paper-dry``: the link alone; ``paper``: the lubricated joint; ``paper-impact``: film
+breakdown with impacts), each number of modes and each method (DOP853, the exponential
+Runge-Kutta method, Bulirsch-Stoer), the integration (``lubelink.simulate.run``, warm, median of
+``--repeats``) is timed at tolerances ``rtol = 10 atol`` from 1e-5 to 1e-10 (the default is rtol 1e-8,
+atol 1e-9). The error is the largest difference of the midpoint deflection ``u2_mid`` over the run
+to a DOP853 run at rtol 1e-12, atol 1e-15. Runs that stop early (film breakdown, chatter) are
+compared on the samples they have, and marked.
+
+Prints one table row per run and draws ``benchmarks/work_precision.png`` (one panel per case and
+number of modes; the default tolerance circled).
+
+Usage::
+
+    python benchmarks/work_precision.py                 # about 10 minutes on 2 cores
+    python benchmarks/work_precision.py --modes 1,7 --repeats 1 --output /tmp/wp.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+CASES = ("paper-dry", "paper", "paper-impact")
+METHODS = ("DOP853", "exponential", "bulirsch-stoer")
+RTOLS = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+DEFAULT_RTOL = 1e-8
+TIGHT = {"solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-15}
+
+
+def u2_mid(run):
+    from lubelink import beam
+
+    L = run.model.config.mechanism.rod_length
+    return beam.deflection(run.y[:, :run.model.modes], np.array([0.5 * L]), L)[:, 0]
+
+
+def measure(case, modes, repeats):
+    """Rows ``(method, rtol, seconds, error, nfev, status)`` of one case."""
+    from lubelink.config import resolve
+    from lubelink.simulate import run
+
+    tight = run(resolve(case, {"beam.modes": modes, **TIGHT}))
+    ref = u2_mid(tight)
+    rows = []
+    for method in METHODS:
+        for rtol in RTOLS:
+            config = resolve(case, {"beam.modes": modes, "solver.method": method, "solver.rtol": rtol,
+                                    "solver.atol": rtol / 10})
+            r = run(config)
+            times = []
+            for _ in range(repeats):
+                start = time.perf_counter()
+                r = run(config)
+                times.append(time.perf_counter() - start)
+            n = min(len(r.t), len(tight.t))
+            err = float(np.max(np.abs(u2_mid(r)[:n] - ref[:n])))
+            rows.append((method, rtol, statistics.median(times), err, r.nfev, r.status))
+    return rows, tight.status
+
+
+def draw(results, modes_list, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(CASES), len(modes_list), figsize=(3.2 * len(modes_list), 2.8 * len(CASES)),
+                             squeeze=False, sharey=True)
+    colours = dict(zip(METHODS, ("C0", "C3", "C2")))
+    for i, case in enumerate(CASES):
+        for j, modes in enumerate(modes_list):
+            ax = axes[i, j]
+            rows = results[case, modes]
+            for method in METHODS:
+                mine = [r for r in rows if r[0] == method]
+                t = [1e3 * r[2] for r in mine]
+                e = [max(r[3], 1e-13) for r in mine]
+                ax.loglog(t, e, "o-", ms=3, color=colours[method], label=method)
+                for r, ti, ei in zip(mine, t, e):
+                    if r[1] == DEFAULT_RTOL:
+                        ax.plot(ti, ei, "o", ms=9, mfc="none", color=colours[method])
+                    if r[5] != "complete":
+                        ax.plot(ti, ei, "x", ms=7, color="k")
+            ax.set_title(f"{case}, {modes} mode{'s' if modes > 1 else ''}", fontsize=9)
+            ax.grid(True, which="both", lw=0.3)
+            if i == len(CASES) - 1:
+                ax.set_xlabel("integration time [ms]")
+            if j == 0:
+                ax.set_ylabel("max |u2_mid error| [m]")
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle("Work-precision: rtol = 10 atol from 1e-5 to 1e-10; circled: the default (1e-8); "
+                 "x: stopped early", fontsize=9)
+    fig.tight_layout()
+    path = Path(path)
+    tmp = path.with_suffix(".part.png")
+    fig.savefig(tmp, dpi=110)
+    tmp.replace(path)
+    print(f"\nwrote {path}")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--modes", default="1,3,7,15", help="comma-separated numbers of modes")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--output", default=str(Path(__file__).with_name("work_precision.png")))
+    args = parser.parse_args(argv)
+    modes_list = [int(m) for m in args.modes.split(",")]
+    results = {}
+    print(f"{'case':<14}{'modes':>5} {'method':<16}{'rtol':>8}{'time [ms]':>11}{'error [m]':>11}{'nfev':>9}  status")
+    for case in CASES:
+        for modes in modes_list:
+            rows, tight_status = measure(case, modes, args.repeats)
+            results[case, modes] = rows
+            for method, rtol, seconds, err, nfev, status in rows:
+                print(f"{case:<14}{modes:>5} {method:<16}{rtol:>8.0e}{1e3 * seconds:>11.2f}{err:>11.2e}{nfev:>9}  "
+                      f"{status}")
+            if tight_status != "complete":
+                print(f"   (the reference run stopped early: {tight_status})")
+    draw(results, modes_list, args.output)
+
+
+if __name__ == "__main__":
+    main()
