@@ -171,7 +171,7 @@ def _cmd_sweep(args):
     problem = output_problem(out)
     if problem:
         raise UsageError(f"-o {out}: {problem}")
-    estimate = sp.estimate(workers or (1 if args.scheduler else _cpu_count()))
+    estimate = sp.estimate(workers or (None if args.scheduler else _cpu_count()))
     if args.check:
         print(_plan(sp, out, estimate), flush=True)  # at once, before the points are validated
         try:

@@ -151,7 +151,7 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
         raise SweepError("give either a scheduler address or a number of local workers, not both")
     if client is not None and (scheduler or workers):
         raise SweepError("give either a Dask client or a scheduler address / number of workers")
-    check_size(sp, max_points, workers or _cpu_count())
+    check_size(sp, max_points, workers or (None if scheduler or client is not None else _cpu_count()))
     problem = output_problem(path)
     if problem:
         raise SweepError(f"{path}: {problem}")
@@ -163,7 +163,7 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
         return _run(sp, path, client, where, workers, retry_failed, overwrite, progress, trace, task_seconds)
 
 
-def check_size(sp, max_points=None, workers=1):
+def check_size(sp, max_points=None, workers=None):
     """Refuse a sweep of more points than ``max_points`` (default :data:`MAX_POINTS`), saying what
     it would cost (:meth:`Sweep.estimate`)."""
     cap = MAX_POINTS if max_points is None else int(max_points)

@@ -174,7 +174,7 @@ def _parse(data, origin, root) -> Sweep:
         store = {}
     for key in store:
         if key not in _STORE_KEYS:
-            problems.append(f"store.{key}: unknown key{suggest(key, _STORE_KEYS)}; [store] has "
+            problems.append(f"store.{_name(key)}: unknown key{suggest(key, _STORE_KEYS)}; [store] has "
                             + ", ".join(_STORE_KEYS))
     if "quantities" in store:
         quantities = _names(store["quantities"], "store.quantities", QUANTITIES, problems)
@@ -239,7 +239,7 @@ def _axis(name, spec, ftype, where, problems):
     if isinstance(spec, dict):
         for key in spec:
             if key not in _RANGE_KEYS:
-                problems.append(f"{where}.{key}: unknown key{suggest(key, _RANGE_KEYS)}; a range has "
+                problems.append(f"{where}.{_name(key)}: unknown key{suggest(key, _RANGE_KEYS)}; a range has "
                                 "start, stop, num and optionally scale = \"linear\" | \"log\"")
         missing = [k for k in ("start", "stop", "num") if k not in spec]
         if missing:

@@ -40,13 +40,14 @@ class SweepEstimate:
     store_bytes: float
     cpu_seconds: float
     wall_seconds: float
-    workers: int
+    workers: int | None
 
     def __str__(self):
         from ..estimate import duration
 
-        return (f"about {duration(self.wall_seconds)} on {self.workers} worker(s) "
-                f"({duration(self.cpu_seconds)} of CPU), client memory about {_bytes(self.memory_bytes)}, "
+        time = (f"about {duration(self.wall_seconds)} on {self.workers} worker(s) ({duration(self.cpu_seconds)} "
+                "of CPU)" if self.workers else f"about {duration(self.cpu_seconds)} of CPU (over the workers)")
+        return (f"{time}, client memory about {_bytes(self.memory_bytes)}, "
                 f"store about {_bytes(self.store_bytes)} before compression")
 
 
@@ -209,12 +210,13 @@ class Sweep:
         return configs, invalid
 
     # ------------------------------------------------------------ cost
-    def estimate(self, workers=1, sample=64):
+    def estimate(self, workers=None, sample=64):
         """:class:`SweepEstimate`: memory, store size and time of the whole sweep, up front.
 
         Time: the up-front cost of a run (:func:`lubelink.estimate.run_cost`) plus the results
         assembly and the per-point overhead, averaged over up to ``sample`` valid points spread
-        over the grid, times the number of points, over ``workers`` processes. Memory: the
+        over the grid, times the number of points, over ``workers`` processes (None: unknown, a
+        remote cluster; the time is then CPU time). Memory: the
         results as the client holds them when the sweep ends (:func:`load_sweep`), with the
         strings as Python objects; the store: the same values on disk before compression.
         """
@@ -252,7 +254,7 @@ class Sweep:
             store_per_point += series
         return SweepEstimate(points=size, memory_bytes=size * per_point_bytes + MEMORY_BASE,
                              store_bytes=size * store_per_point, cpu_seconds=size * per_point,
-                             wall_seconds=size * per_point / max(1, workers), workers=max(1, workers))
+                             wall_seconds=size * per_point / (workers or 1), workers=workers or None)
 
     def invalid_report(self, invalid: dict) -> list:
         """One line per distinct problem, naming the first point it occurs at and how many more."""
