@@ -3,9 +3,10 @@ import os
 import pytest
 from hypothesis import settings
 
-# CI runs a bounded fuzz; `HYPOTHESIS_PROFILE=long pytest` explores more locally.
+# CI runs a bounded fuzz; `HYPOTHESIS_PROFILE=long pytest` (or `thorough`, 10000 examples) explores more locally.
 settings.register_profile("ci", max_examples=60, deadline=None)
 settings.register_profile("long", max_examples=2000, deadline=None)
+settings.register_profile("thorough", max_examples=10_000, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 #: A short run of the paper's mechanism, enough for end-to-end checks.

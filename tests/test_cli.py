@@ -2,6 +2,7 @@
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -83,3 +84,168 @@ def test_config_prints_valid_toml(tmp_path):
     path = tmp_path / "c.toml"
     path.write_text(r.stdout)
     assert lubelink.load_config(path) == lubelink.resolve_config("paper-impact")
+
+
+# ====================================================================== issue 15: reliability II
+HUGE = "9" * 400  # an integer far beyond a float
+
+
+@pytest.mark.parametrize("args, needle", [
+    # item 1: the output is checked before the run (this run would otherwise take half an hour)
+    (["run", "--set", "solver.max_step=1e-9", "--set", "solver.t_end=0.2", "-o", "/proc/x.nc"],
+     "cannot create files in folder /proc"),
+    (["run", "-o", "folder.nc", "--overwrite"], "is a folder; only a regular file is ever replaced"),
+    (["run", "-o", "pipe.nc", "--overwrite"], "is a FIFO (named pipe); only a regular file is ever replaced"),
+    # item 4: integers beyond a float, non-UTF-8 files
+    (["run", "--set", f"beam.modes={HUGE}"], "beam.modes = <an integer of about 400 digits>: must be an integer"),
+    (["run", "--set", f"film.viscosity={HUGE}"], "film.viscosity = <an integer of about 400 digits>"),
+    (["run", "--set", f"mechanism.gravity=[{HUGE}, 0]"], "mechanism.gravity = (<an integer of about 400 digits>"),
+    (["run", "--set", "beam.modes=" + "9" * 5000], "too long to read"),
+    (["run", "random.toml"], "random.toml: not UTF-8 text"),
+    (["config", "random.toml"], "random.toml: not UTF-8 text"),
+    # item 7: --set
+    (["run", "--set", "beam.modes=5\nsolver.t_end=0.1"], "the value must be on one line"),
+    (["run", "--set", ".modes=5"], "(the section is missing)"),
+    (["run", "--set", "beam.=5"], "(the key is missing)"),
+    # item 12
+    (["run", "dup.toml"], "key 'beam.modes' is given twice, at line 3"),
+    (["run", "-o", "out.zarr"], "results are written as NetCDF; name the file *.nc (e.g. out.nc)"),
+    (["run", "-o", "results"], "name the file results.nc"),
+    (["run", "folder.nc"], "is a folder, not a configuration file"),
+])
+def test_bad_input_of_issue_15_exits_2_with_one_clear_line(args, needle, tmp_path):
+    import os
+
+    (tmp_path / "folder.nc").mkdir()
+    os.mkfifo(tmp_path / "pipe.nc")
+    (tmp_path / "random.toml").write_bytes(bytes(range(128, 256)) * 2)
+    (tmp_path / "dup.toml").write_text("[beam]\nmodes = 2\nmodes = 3\n")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    r = cli(*args, cwd=tmp_path)
+    assert r.returncode == 2, r.stderr
+    assert needle in r.stderr
+    assert "Traceback" not in r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("lubelink: error: ") and len(lines[0]) < 400
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_a_utf8_bom_is_accepted(tmp_path):
+    conf = tmp_path / "bom.toml"
+    conf.write_bytes("\ufeff[beam]\nmodes = 3\n".encode())
+    r = cli("config", str(conf))
+    assert r.returncode == 0, r.stderr
+    assert lubelink.load_config(conf).beam.modes == 3
+
+
+def run_in_process(args, tmp_path, monkeypatch, capsys):
+    from lubelink.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    status = main(args)
+    return status, capsys.readouterr()
+
+
+def test_an_output_that_appears_during_the_run_is_kept_and_the_results_go_beside_it(tmp_path, monkeypatch, capsys):
+    """Item 3 (no silent replacement) and item 1 (results kept when the final write fails)."""
+    simulate_module = sys.modules["lubelink.simulate"]  # lubelink.simulate is also the function
+    real = simulate_module.run
+
+    def run_while_another_writes(config, **kw):
+        out = real(config, **kw)
+        (tmp_path / "r.nc").write_text("another run's results")
+        return out
+
+    monkeypatch.setattr(simulate_module, "run", run_while_another_writes)
+    status, out = run_in_process(["run", "-q", *SHORT_ARGS, "-o", "r.nc"], tmp_path, monkeypatch, capsys)
+    assert status == 1
+    assert (tmp_path / "r.nc").read_text() == "another run's results"
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("r.unsaved-")]
+    assert len(kept) == 1 and lubelink.load(kept[0]).attrs["status"] == "complete"
+    assert "r.nc appeared while the results were computed; it was not replaced" in out.err
+    assert f"the results were written to {kept[0].name}" in out.err or str(kept[0]) in out.err
+    assert len(out.err.strip().splitlines()) == 1 and "Traceback" not in out.err
+
+
+def test_a_failing_final_write_keeps_the_results_elsewhere(tmp_path, monkeypatch, capsys):
+    import lubelink.results
+
+    real = lubelink.results.write
+    target = tmp_path / "sub" / "r.nc"
+    target.parent.mkdir()
+
+    def write(results, path, overwrite=False):
+        if Path(path).parent == target.parent:
+            raise OSError(28, "No space left on device")
+        return real(results, path, overwrite=overwrite)
+
+    monkeypatch.setattr(lubelink.results, "write", write)
+    status, out = run_in_process(["run", "-q", *SHORT_ARGS, "-o", str(target)], tmp_path, monkeypatch, capsys)
+    assert status == 1
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("r.unsaved-")]
+    assert len(kept) == 1 and lubelink.load(kept[0]).attrs["complete"] == 1
+    assert "could not be written (No space left on device)" in out.err and str(kept[0].name) in out.err
+    assert list(target.parent.iterdir()) == []
+
+
+def test_sigterm_during_the_write_removes_the_temporary_and_exits_143(tmp_path, monkeypatch, capsys):
+    """Item 10: SIGTERM is handled like Ctrl-C (clean-up, one line), with status 128 + 15."""
+    import os
+    import signal
+
+    import netCDF4
+
+    real = netCDF4.Dataset
+
+    def dataset_then_sigterm(*a, **k):
+        nc = real(*a, **k)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return nc
+
+    monkeypatch.setattr(netCDF4, "Dataset", dataset_then_sigterm)
+    previous = signal.getsignal(signal.SIGTERM)
+    status, out = run_in_process(["run", "-q", *SHORT_ARGS, "-o", "r.nc"], tmp_path, monkeypatch, capsys)
+    assert status == 143
+    assert out.err.strip() == "lubelink: terminated by SIGTERM; nothing was written"
+    assert list(tmp_path.iterdir()) == []
+    assert signal.getsignal(signal.SIGTERM) == previous  # the handler is the CLI's only while it runs
+
+
+def sigterm_caught(pid):
+    """True once process ``pid`` catches SIGTERM (its handler installed)."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    mask = int(next(line.split()[1] for line in text.splitlines() if line.startswith("SigCgt:")), 16)
+    return bool(mask >> (15 - 1) & 1)
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc")
+def test_sigterm_during_a_run_is_a_clean_exit_143(tmp_path):
+    import signal
+    import time
+
+    p = subprocess.Popen([sys.executable, "-m", "lubelink", "run", "-q", "--set", "solver.max_step=1e-9",
+                          "--set", "solver.t_end=0.2", "--set", "solver.max_wall_time=120"], cwd=tmp_path,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not sigterm_caught(p.pid) and p.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 143, err
+    assert err.strip().splitlines()[-1] == "lubelink: terminated by SIGTERM; nothing was written"
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("umask", [0o002, 0o077])
+def test_results_files_honour_the_umask(tmp_path, umask):
+    import os
+    import stat
+
+    r = subprocess.run(["sh", "-c", f"umask {umask:03o} && exec {sys.executable} -m lubelink run -q "
+                        + " ".join(SHORT_ARGS) + " -o r.nc"], cwd=tmp_path, capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert stat.S_IMODE(os.stat(tmp_path / "r.nc").st_mode) == 0o666 & ~umask

@@ -103,3 +103,67 @@ def test_unreadable_and_malformed_files(tmp_path):
 
 def test_defaults_validate():
     assert cfgmod.validate(Config()) == Config()
+
+
+# ====================================================================== issue 15
+HUGE = 10**400
+
+
+@pytest.mark.parametrize("data, needle", [
+    ({"beam": {"modes": HUGE}}, "beam.modes = <an integer of about 401 digits>: must be an integer in [1, 200]"),
+    ({"film": {"viscosity": -HUGE}}, "film.viscosity = -<an integer of about 401 digits>: must be a number"),
+    ({"mechanism": {"gravity": [0, HUGE]}}, "mechanism.gravity = (0.0, <an integer of about 401 digits>)"),
+    ({"solver": {"t_end": 10**5000}}, "solver.t_end = <an integer of about 5001 digits>"),
+    ({"film": {"model": "x" * 10000}}, "film.model = 'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (10002 characters)"),
+])
+def test_values_beyond_a_float_or_very_long_are_named_errors(data, needle):
+    problems = problems_of(data)
+    assert any(needle in p for p in problems), problems
+    assert all(len(p) < 300 for p in problems)
+
+
+def test_overrides_must_be_one_line_and_name_section_and_key():
+    with pytest.raises(ConfigError, match="on one line"):
+        parse_override("beam.modes=5\nsolver.t_end = 0.1")
+    with pytest.raises(ConfigError, match="the section is missing"):
+        parse_override(".modes=5")
+    with pytest.raises(ConfigError, match="the key is missing"):
+        parse_override("beam. = 5")
+    with pytest.raises(ConfigError, match="must be section.key"):
+        resolve("paper", {".modes": 5})
+    with pytest.raises(ConfigError, match="too long to read"):
+        parse_override("beam.modes=" + "9" * 5000)
+
+
+@pytest.mark.parametrize("content, needle", [
+    (b"\xff\xfe[beam]\nmodes = 2\n", "not UTF-8 text (byte 0xff at offset 0)"),
+    (b"[beam]\nmodes = 2\n\n[film]\nviscosity = 0.1\n\n[beam]\n", "Cannot declare ('beam',) twice"),
+    (b"[beam]\nmodes = 2\ndensity = 1.0\nmodes = 3\n", "key 'beam.modes' is given twice, at line 4"),
+    (b"scenario = 'paper'\nscenario = 'paper'\n", "key 'scenario' is given twice, at line 2"),
+    (b"v = " + b"9" * 5000 + b"\n", "too long to read"),
+])
+def test_unreadable_files_are_one_line_errors(tmp_path, content, needle):
+    path = tmp_path / "c.toml"
+    path.write_bytes(content)
+    with pytest.raises(ConfigError) as info:
+        load(path)
+    assert len(info.value.problems) == 1 and needle in info.value.problems[0], info.value.problems
+
+
+def test_a_byte_order_mark_and_a_folder(tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_bytes(b"\xef\xbb\xbf[beam]\nmodes = 2\n")
+    assert load(path).beam.modes == 2
+    with pytest.raises(ConfigError, match="is a folder, not a configuration file"):
+        load(tmp_path)
+
+
+def test_every_configuration_gets_a_finite_wall_time_budget(tmp_path):
+    """Item 14: a default budget, written in the configuration (so in every results file)."""
+    for name in cfgmod.SCENARIOS:
+        assert scenario(name).solver.max_wall_time == cfgmod.DEFAULT_MAX_WALL_TIME < math.inf
+    assert resolve({"beam": {"modes": 3}}).solver.max_wall_time == cfgmod.DEFAULT_MAX_WALL_TIME
+    assert resolve("paper", {"solver.max_wall_time": math.inf}).solver.max_wall_time == math.inf
+    path = tmp_path / "c.toml"
+    path.write_text("[solver]\nmax_wall_time = 10\n")
+    assert load(path).solver.max_wall_time == 10.0

@@ -60,3 +60,23 @@ def test_load_rejects_foreign_files(tmp_path):
         lubelink.load(junk)
     with pytest.raises(ResultsFileError, match="no such"):
         lubelink.load(tmp_path / "none.nc")
+
+
+def test_config_of_a_foreign_dataset_is_a_clear_error(ds):
+    with pytest.raises(ResultsFileError, match="no 'config' attribute"):
+        config_of(xr.Dataset({"a": ("t", [1.0])}))
+    with pytest.raises(ResultsFileError, match="not valid TOML"):
+        config_of(xr.Dataset(attrs={"config": "[beam\nmodes"}))
+
+
+def test_save_refuses_other_suffixes_and_special_files(ds, tmp_path):
+    import os
+
+    with pytest.raises(ResultsFileError, match=r"name the file \*.nc"):
+        lubelink.save(ds, tmp_path / "r.zarr")
+    (tmp_path / "d.nc").mkdir()
+    os.mkfifo(tmp_path / "p.nc")
+    for name in ("d.nc", "p.nc"):
+        with pytest.raises(ResultsFileError, match="only a regular file"):
+            lubelink.save(ds, tmp_path / name, overwrite=True)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nc", "p.nc"]

@@ -414,5 +414,250 @@ def test_check_prints_the_plan_without_computing(tmp_path, monkeypatch, capsys):
     Path("s.toml").write_text(SWEEP_TOML)
     assert cli_main(["sweep", "s.toml", "--check"]) == 0
     out = capsys.readouterr().out
-    assert "points            48, all valid" in out and "film.clearance: 4 (log" in out
+    assert "points            48\n" in out and "validated         48 points, all valid" in out
+    assert "film.clearance: 4 (log" in out and "estimate          about" in out
     assert not Path("s.zarr").exists()
+
+
+# ====================================================================== issue 15: reliability II
+def test_two_sweeps_creating_the_same_store_at_once_one_is_told_it_is_in_use(tmp_path, monkeypatch):
+    """Item 6: the loser of the race gets the documented "store in use", not OSError."""
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]}))
+    path = tmp_path / "r.zarr"
+    real = _Store._build_and_publish
+    winner = []
+
+    def another_sweep_publishes_first(self):
+        if not winner:
+            winner.append(None)
+            winner[0] = _Store.open(path, sp)  # created, published, locked by the other sweep
+        real(self)
+
+    monkeypatch.setattr(_Store, "_build_and_publish", another_sweep_publishes_first)
+    with pytest.raises(SweepError, match="being written by another sweep"):
+        _Store.open(path, sp)
+    assert winner[0].created and sorted(p.name for p in tmp_path.iterdir()) == ["r.zarr"]
+    winner[0].close()
+
+
+def test_two_threads_creating_the_same_store(tmp_path):
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]}))
+    for round_ in range(3):
+        path = tmp_path / f"r{round_}.zarr"
+        barrier, outcomes = threading.Barrier(2), []
+
+        def open_store():
+            barrier.wait()
+            try:
+                outcomes.append(_Store.open(path, sp))
+            except Exception as exc:  # noqa: BLE001 - the outcome is what is checked
+                outcomes.append(exc)
+
+        threads = [threading.Thread(target=open_store) for _ in range(2)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        stores = [o for o in outcomes if isinstance(o, _Store)]
+        errors = [o for o in outcomes if not isinstance(o, _Store)]
+        assert len(stores) == 1 and len(errors) == 1, outcomes
+        assert isinstance(errors[0], SweepError) and "being written by another sweep" in str(errors[0])
+        stores[0].close()
+    assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
+
+
+@pytest.mark.parametrize("output", ["s.zarr", "s.nc"])
+def test_an_unreachable_scheduler_leaves_no_store(tmp_path, monkeypatch, capsys, output):
+    """Item 8."""
+    import dask
+
+    monkeypatch.chdir(tmp_path)
+    Path("s.toml").write_text('[set]\n"solver.t_end" = 0.05\n[vary]\n"film.viscosity" = [0.1]\n')
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        assert cli_main(["sweep", "s.toml", "-o", output, "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    assert "cannot connect" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_a_store_this_run_created_is_removed_if_nothing_was_computed(tmp_path, monkeypatch):
+    import lubelink.sweep.execute as execute
+
+    def no_cluster(*a, **k):
+        raise SweepError("no cluster today")
+
+    monkeypatch.setattr(execute, "_dask_client", no_cluster)
+    with pytest.raises(SweepError, match="no cluster today"):
+        run_sweep(sweep_dict(**{"film.viscosity": [0.1]}), tmp_path / "r.zarr", progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
+HUGE_SWEEP = """
+[vary]
+"film.viscosity" = { start = 0.01, stop = 1.0, num = 10000 }
+"mechanism.crank_speed" = { start = 10.0, stop = 40.0, num = 1000 }
+"""
+
+
+def test_a_huge_sweep_is_refused_up_front_with_its_cost(tmp_path, monkeypatch, capsys):
+    """Item 9: 10^7 points: the plan at once, no point validated, refused above the cap."""
+    from lubelink.sweep import Sweep
+
+    def never(*a, **k):
+        raise AssertionError("a refused sweep must not be validated point by point")
+
+    monkeypatch.setattr(Sweep, "invalid_points_of", never)
+    monkeypatch.setattr(Sweep, "point_configs", never)
+    monkeypatch.chdir(tmp_path)
+    Path("huge.toml").write_text(HUGE_SWEEP)
+    assert cli_main(["sweep", "huge.toml", "--check"]) == 2
+    out, err = capsys.readouterr()
+    assert "points            10,000,000" in out and "estimate          about" in out
+    assert "client memory about" in out and "store about" in out
+    assert "10,000,000 points, more than the limit of 100,000" in err and "--max-points 10000000" in err
+    assert cli_main(["sweep", "huge.toml"]) == 2
+    assert "more than the limit of 100,000" in capsys.readouterr().err
+    with pytest.raises(SweepError, match="more than the limit"):
+        run_sweep("huge.toml", "huge.zarr", progress=False)
+    assert cli_main(["sweep", "huge.toml", "--max-points", "0"]) == 2
+    assert "--max-points 0: must be a whole number in [1, 1000000000]" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["huge.toml"]
+
+
+def test_a_large_sweep_is_validated_without_holding_configurations(tmp_path, monkeypatch, capsys):
+    from lubelink.sweep import Sweep
+
+    def never(*a, **k):
+        raise AssertionError("run_sweep and --check keep no configuration per point")
+
+    monkeypatch.setattr(Sweep, "point_configs", never)
+    monkeypatch.chdir(tmp_path)
+    Path("big.toml").write_text('[vary]\n"film.viscosity" = { start = 0.01, stop = 1.0, num = 300 }\n'
+                                '"mechanism.crank_speed" = { start = 10.0, stop = 40.0, num = 1000 }\n')
+    assert cli_main(["sweep", "big.toml", "--check", "--max-points", "300000"]) == 0
+    assert "validated         300,000 points, all valid" in capsys.readouterr().out
+
+
+def test_sweep_estimates_scale_with_the_points_and_what_is_stored():
+    small = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]}))
+    big = read_sweep(sweep_dict(**{"film.viscosity": {"start": 0.1, "stop": 0.2, "num": 2000}}))
+    a, b = small.estimate(workers=2), big.estimate(workers=2)
+    assert b.cpu_seconds == pytest.approx(1000 * a.cpu_seconds, rel=0.05)
+    assert b.wall_seconds == pytest.approx(b.cpu_seconds / 2)
+    series = read_sweep({**sweep_dict(**{"film.viscosity": [0.1, 0.2]}), "store": {"time_series": ["u2"]}})
+    assert series.estimate().store_bytes > 2 * 101 * 5 * 8  # 101 samples x 5 points along the link, per point
+
+
+@pytest.mark.parametrize("data, needle", [
+    ({"points": [{}]}, "points[0]: an empty point"),
+    ({"points": [{"film.viscosity": 0.1}, {}]}, "points[1]: an empty point"),
+    ({"vary": {"film.viscosity": [10**400]}}, "vary.\"film.viscosity\"[0] = <an integer of about 401 digits>"),
+    ({"vary": {"film.viscosity": {"start": 10**400, "stop": 1.0, "num": 3}}},
+     "vary.\"film.viscosity\".start = <an integer of about 401 digits>: must be a finite number"),
+    ({"vary": {"beam.modes": [10**400]}}, "[0] = <an integer of about 401 digits>: must be an integer"),
+    ({"vary": {"film.viscosity": [0.1]}, "set": {"mechanism.gravity": [10**400, 0]}},
+     "mechanism.gravity = (<an integer of about 401 digits>, 0)"),
+    ({"vary": {"film.viscosity": [0.1]}, "set": {"film.viscosity": 10**400}}, "must be a number within"),
+])
+def test_sweep_files_of_issue_15_are_refused_naming_the_key(data, needle):
+    with pytest.raises(ConfigError) as err:
+        read_sweep(data)
+    assert any(needle in p for p in err.value.problems), err.value.problems
+
+
+def test_a_sweep_base_is_relative_to_the_sweep_file_and_a_foreign_base_is_not_quoted(tmp_path, monkeypatch, capsys):
+    """Item 13."""
+    (tmp_path / "studies").mkdir()
+    (tmp_path / "studies" / "base.toml").write_text('scenario = "paper-dry"\n[beam]\nmodes = 2\n')
+    (tmp_path / "studies" / "s.toml").write_text('base = "base.toml"\n[vary]\n"film.viscosity" = [0.1]\n')
+    (tmp_path / "secrets.toml").write_text('[DB_PASSWORD]\nvalue = "hunter2"\n[film]\nmodel = "s3cr3t-token"\n')
+    (tmp_path / "studies" / "evil.toml").write_text('base = "../secrets.toml"\n[vary]\n"film.viscosity" = [0.1]\n')
+    (tmp_path / "studies" / "bytes.toml").write_text('base = "/proc/self/environ"\n[vary]\n"film.viscosity" = [0.1]\n')
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    sp = read_sweep("../studies/s.toml")
+    assert sp.base_config.beam.modes == 2 and sp.base_config.film.model == "none"
+    for name in ("evil.toml", "bytes.toml"):
+        assert cli_main(["sweep", f"../studies/{name}", "--check"]) == 2
+        err = capsys.readouterr().err
+        assert "is not a valid lubelink configuration file" in err and "lubelink config" in err
+        for secret in ("DB_PASSWORD", "hunter2", "s3cr3t", "PATH="):
+            assert secret not in err
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["sweep", "random.toml", "--check"], "random.toml: not UTF-8 text"),
+    (["sweep", "folder"], "is a folder, not a sweep file"),
+    (["sweep", "s.toml", "-o", "/proc/r.zarr"], "cannot create files in folder /proc"),
+    (["sweep", "s.toml", "-o", "file.zarr"], "exists and is a file, not a folder"),
+    (["sweep", "s.toml", "-o", "folder.nc"], "is a folder; only a regular file is ever replaced"),
+    (["sweep", "s.toml", "--check", "-o", "/proc/r.nc"], "cannot create files in folder /proc"),
+])
+def test_bad_sweep_command_lines_of_issue_15(args, needle, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    Path("s.toml").write_text('[set]\n"solver.t_end" = 0.05\n[vary]\n"film.viscosity" = [0.1]\n')
+    Path("random.toml").write_bytes(bytes(range(128, 256)))
+    Path("folder").mkdir()
+    Path("folder.nc").mkdir()
+    Path("file.zarr").write_text("")
+    assert cli_main(args) == 2
+    err = capsys.readouterr().err
+    assert needle in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+@on_cluster
+def test_plot_sweep_checks_its_output_before_drawing(reference, tmp_path, capsys):
+    """Item 1, plot-sweep -o."""
+    store = str(reference[0] / "ref.zarr")
+    (tmp_path / "d.png").mkdir()
+    for out, needle in (("/proc/x.png", "cannot create files in folder /proc"),
+                        (str(tmp_path / "d.png"), "is a folder"),
+                        (str(tmp_path / "x.zarr"), "name an image file")):
+        assert cli_main(["plot-sweep", store, "-o", out]) == 2
+        err = capsys.readouterr().err
+        assert needle in err and "Traceback" not in err
+
+
+@on_cluster
+def test_sweep_outputs_honour_the_umask(client, tmp_path):
+    """Item 11: every file and folder of a Zarr store, a NetCDF export and a plot."""
+    import stat
+
+    data = sweep_dict(**{"film.viscosity": [0.1, 0.2]})
+    old = os.umask(0o002)
+    try:
+        run_sweep(data, tmp_path / "u.zarr", client=client, progress=False, trace=tmp_path / "trace.log")
+        run_sweep(data, tmp_path / "u.nc", client=client, progress=False)
+        assert cli_main(["plot-sweep", str(tmp_path / "u.zarr"), "-o", str(tmp_path / "u.png")]) == 0
+    finally:
+        os.umask(old)
+    # (the trace file is created by the workers, with their own umask)
+    paths = [tmp_path / "u.zarr", *(tmp_path / "u.zarr").rglob("*"), tmp_path / "u.nc", tmp_path / "u.png"]
+    for p in paths:
+        want = 0o775 if p.is_dir() else 0o664
+        assert stat.S_IMODE(p.stat().st_mode) == want, p
+
+
+@on_cluster
+def test_sigterm_stops_a_sweep_like_ctrl_c(client, tmp_path, monkeypatch, capsys):
+    """Item 10: SIGTERM to the sweep client: stored points kept, one line, status 143, resumable."""
+    monkeypatch.chdir(tmp_path)
+    Path("s.toml").write_text(SWEEP_TOML)
+    trace = tmp_path / "trace.log"
+
+    def terminate_after_the_first_points():
+        deadline = time.monotonic() + 120
+        while stored(tmp_path / "s.zarr") < 2 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    killer = threading.Thread(target=terminate_after_the_first_points)
+    killer.start()
+    status = cli_main(["sweep", "s.toml", "-q", "--scheduler", client.scheduler.address, "--trace", str(trace)])
+    killer.join()
+    err = capsys.readouterr().err
+    assert status == 143, err
+    assert "lubelink: terminated by SIGTERM;" in err and "run the same command again to resume" in err
+    assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
+    assert cli_main(["sweep", "s.toml", "-q", "--scheduler", client.scheduler.address]) == 0
+    assert bool(load_sweep("s.zarr").done.all())

@@ -12,7 +12,7 @@ import importlib
 import sys
 from pathlib import Path
 
-from .errors import UsageError, suggest
+from .errors import Terminated, UsageError, exit_status, interrupted, suggest
 
 __all__ = ["main", "resolve_args", "UsageError"]
 
@@ -40,6 +40,12 @@ def _add_config_args(p):
                    help="override one parameter, value in TOML syntax (repeatable), e.g. --set beam.modes=5")
 
 
+def _default_budget():
+    from .config import DEFAULT_MAX_WALL_TIME
+
+    return DEFAULT_MAX_WALL_TIME
+
+
 def build_parser():
     from . import __version__
 
@@ -52,7 +58,10 @@ def build_parser():
 
     p = sub.add_parser("run", help="run one simulation and write its results as NetCDF",
                        description="Run one simulation, print a summary and write the results (NetCDF). "
-                                   "With no arguments it runs the 'paper' scenario.")
+                                   "With no arguments it runs the 'paper' scenario. The output file is checked "
+                                   "before the run; a run estimated to take long says so before it starts, and "
+                                   "every run stops after its wall-time budget, solver.max_wall_time (default "
+                                   f"{_default_budget():g} s; inf for none), keeping its results so far.")
     _add_config_args(p)
     p.add_argument("-o", "--output", metavar="FILE.nc",
                    help="results file (default: <scenario or config name>.nc in the current folder)")
@@ -82,7 +91,9 @@ def resolve_args(args):
     if args.config and args.scenario:
         raise UsageError("give either CONFIG.toml or --scenario, not both "
                          "(a file picks its base with its top-level 'scenario' key)")
-    if args.config and not Path(args.config).is_file():
+    if args.config and Path(args.config).is_dir():
+        raise UsageError(f"CONFIG.toml = {args.config!r}: is a folder, not a configuration file")
+    if args.config and not Path(args.config).exists():
         if args.config in SCENARIOS:  # `lubelink run paper-dry`: a scenario by name
             args.config, args.scenario = None, args.config
         else:
@@ -91,6 +102,18 @@ def resolve_args(args):
     overrides = dict(parse_override(text) for text in args.overrides)
     source = args.config or args.scenario or "paper"
     return source, resolve(source, overrides)
+
+
+def _budget(r):
+    """The finite wall-time budget the results were computed with, or None."""
+    import math
+    import tomllib
+
+    try:
+        budget = float(tomllib.loads(r.attrs["config"])["solver"]["max_wall_time"])
+    except (KeyError, ValueError, TypeError):
+        return None
+    return budget if math.isfinite(budget) else None
 
 
 def _summary(r, source, path, wall):
@@ -117,17 +140,89 @@ def _summary(r, source, path, wall):
     backend = a["backend"] + (f" ({a['backend_note']})" if a["backend_note"] else "")
     rows.append(("solver", f"{a['solver_method']}, {a['nsteps']} steps, {a['nfev']} right-hand-side evaluations, "
                            f"backend {backend}"))
-    rows.append(("wall time", f"{a['wall_time']:.3f} s integration, {wall:.3f} s in all"))
+    budget = _budget(r)
+    rows.append(("wall time", f"{a['wall_time']:.3f} s integration, {wall:.3f} s in all"
+                 + (f" (budget solver.max_wall_time = {budget:g} s)" if budget is not None else "")))
     if path is not None:
         rows.append(("wrote", str(path)))
     width = max(len(k) for k, _ in rows)
     return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
 
 
+#: An up-front cost estimate above this [s] is reported before the run starts.
+WARN_SECONDS = 60.0
+
+
+def _warn_cost(config):
+    """Say before the run when its estimated cost is long, or beyond its wall-time budget."""
+    import math
+
+    from .estimate import duration, run_cost
+
+    est = run_cost(config)
+    budget = config.solver.max_wall_time
+    if est.seconds > budget:
+        spelled = f" ({duration(budget)})" if budget >= 90 else ""
+        print(f"lubelink: warning: this run is estimated to take {est}; solver.max_wall_time = "
+              f"{budget:g} s{spelled} will stop it first, with status 'timeout' and the results so far; set a "
+              "larger solver.max_wall_time (or inf) to let it finish", file=sys.stderr)
+    elif est.seconds > WARN_SECONDS:
+        print(f"lubelink: note: this run is estimated to take {est}"
+              + (f"; it stops after solver.max_wall_time = {budget:g} s" if math.isfinite(budget) else ""),
+              file=sys.stderr)
+    return est
+
+
+def _write_results(results, path, overwrite):
+    """Write the results to ``path``; if that fails, beside it, here or in the temporary folder.
+
+    Returns ``(written path or None, error message or None)``.
+    """
+    import tempfile
+
+    from ._files import fallback_path
+    from .results import write
+
+    import os
+
+    if not overwrite and os.path.lexists(path):  # it was checked before the run
+        reason = f"{path} appeared while the results were computed; it was not replaced"
+    else:
+        try:
+            return write(results, path, overwrite=overwrite), None
+        except Exception as exc:  # noqa: BLE001 - whatever the failure, the computed results are kept
+            reason = _reason(exc)
+    tried = []
+    for folder in (path.parent, Path.cwd(), Path(tempfile.gettempdir())):
+        if any(folder.resolve() == t.resolve() for t in tried):
+            continue
+        tried.append(folder)
+        other = fallback_path(folder / path.name)
+        if other is None:
+            continue
+        try:
+            write(results, other, overwrite=False)
+        except Exception:  # noqa: BLE001 - try the next folder
+            continue
+        return other, f"-o {path}: could not be written ({reason}); the results were written to {other} instead"
+    return None, (f"-o {path}: could not be written ({reason}), nor in "
+                  + ", ".join(str(t) for t in tried) + "; the results are lost")
+
+
+def _reason(exc):
+    from .results import ResultsFileError
+
+    if isinstance(exc, ResultsFileError):
+        return str(exc)
+    if isinstance(exc, OSError) and exc.strerror:
+        return exc.strerror
+    return f"{type(exc).__name__}: {exc}"
+
+
 def _cmd_run(args):
     import time
 
-    from .results import ResultsFileError, collect, write
+    from .results import EXISTS, collect, output_problem
     from .simulate import run
 
     began = time.perf_counter()
@@ -135,10 +230,12 @@ def _cmd_run(args):
     path = None
     if not args.no_output:
         path = Path(args.output) if args.output else Path(f"{Path(str(source)).stem}.nc")
-        if path.exists() and not args.overwrite:
+        problem = output_problem(path, args.overwrite)
+        if problem == EXISTS:
             raise UsageError(f"-o {path}: the file exists; add --overwrite to replace it")
-        if not path.parent.exists():
-            raise UsageError(f"-o {path}: folder {path.parent} does not exist")
+        if problem:
+            raise UsageError(f"-o {path}: {problem}")
+    _warn_cost(config)
     if args.quiet or not sys.stderr.isatty():
         result = run(config)
     else:
@@ -153,13 +250,14 @@ def _cmd_run(args):
 
             result = run(config, progress=report)
     results = collect(result)
+    failure = None
     if path is not None:
-        try:
-            write(results, path, overwrite=args.overwrite)
-        except ResultsFileError as exc:
-            raise UsageError(str(exc)) from None
+        path, failure = _write_results(results, path, args.overwrite)
     if not args.quiet:
         print(_summary(results, source, path, time.perf_counter() - began))
+    if failure:
+        print(f"lubelink: error: {failure}", file=sys.stderr)
+        return 1
     return 0 if result.complete else 1
 
 
@@ -201,6 +299,7 @@ def main(argv=None):
         parser.print_help()
         return 2
     handler = COMMANDS.get(args.command) or args.handler
+    restore = _on_termination()
     try:
         return handler(args)
     except ConfigError as exc:
@@ -210,6 +309,36 @@ def main(argv=None):
     except UsageError as exc:
         print(f"lubelink: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("lubelink: interrupted; nothing was written", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        print(f"lubelink: {interrupted(exc)}; nothing was written", file=sys.stderr)
+        return exit_status(exc)
+    finally:
+        restore()
+
+
+def _on_termination():
+    """Turn SIGTERM and SIGHUP into :class:`~lubelink.errors.Terminated` (a KeyboardInterrupt: the
+    same clean-up as Ctrl-C, temporaries removed); returns what restores the previous handlers.
+
+    A signal that is ignored (``nohup``) stays ignored; outside the main thread nothing changes.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+
+    def handler(signum, frame):
+        raise Terminated(signum)
+
+    previous = {}
+    for name in ("SIGTERM", "SIGHUP"):
+        sig = getattr(signal, name, None)
+        if sig is not None and signal.getsignal(sig) is signal.SIG_DFL:
+            previous[sig] = signal.signal(sig, handler)
+
+    def restore():
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+    return restore

@@ -17,6 +17,7 @@ from .params import CHOICES, SECTION_TYPES, Config
 
 __all__ = [
     "ConfigError",
+    "DEFAULT_MAX_WALL_TIME",
     "SCENARIOS",
     "scenario",
     "load",
@@ -36,7 +37,14 @@ __all__ = [
 PAPER_IMPACT_VISCOSITY = 2.5e-3
 PAPER_IMPACT_CLEARANCE = 4.40889e-3
 
-#: Built-in scenarios as overrides of the defaults of :mod:`lubelink.params`.
+#: Wall-clock budget of every run [s] (``solver.max_wall_time`` of every scenario, hence of every
+#: configuration read from a file, a dict or ``--set``): a run that would take longer stops with
+#: status ``timeout`` and keeps its results so far. The CLI warns before starting a run whose
+#: estimated cost (:mod:`lubelink.estimate`) exceeds it; ``max_wall_time = inf`` lifts it.
+DEFAULT_MAX_WALL_TIME = 3600.0
+
+#: Built-in scenarios as overrides of the defaults of :mod:`lubelink.params` (and of
+#: :data:`DEFAULT_MAX_WALL_TIME`).
 SCENARIOS: dict[str, dict] = {
     "paper": {
         "description": "Section 6 slider-crank, wedge film (paper Figs. 6-8), 1 mode, 0-2 s",
@@ -79,6 +87,8 @@ def _num(lo=None, hi=None, lo_open=False, hi_open=False, integer=False, allow_in
             return False
         if integer and not isinstance(v, int):
             return False
+        if isinstance(v, int) and abs(v) > _FLOAT_MAX:  # beyond any range here, and beyond a float
+            return False
         if math.isnan(v) or (math.isinf(v) and not allow_inf):
             return False
         if lo is not None and (v < lo or (lo_open and v == lo)):
@@ -88,6 +98,10 @@ def _num(lo=None, hi=None, lo_open=False, hi_open=False, integer=False, allow_in
         return True
 
     return check, text
+
+
+#: Largest finite float; an integer beyond it cannot be converted (``OverflowError``).
+_FLOAT_MAX = 1.7976931348623157e308
 
 
 def _choice(options):
@@ -156,8 +170,34 @@ RULES = {
 MAX_SAMPLES = 50_000_000  # time samples x points of u2, ~400 MB of float64
 
 
+#: Longest value quoted in a message [characters]; longer ones are shortened.
+MAX_QUOTED = 60
+
+
+def _name(name):
+    """A key or section name as messages show it (unquoted, shortened)."""
+    text = _fmt(str(name))[1:-1] if len(str(name)) <= MAX_QUOTED - 2 else _fmt(str(name))
+    return text
+
+
 def _fmt(v):
-    return repr(v) if isinstance(v, str) else str(v)
+    """A value as messages quote it: strings repr'd, long values shortened (an integer of
+    thousands of digits is not even converted: Python refuses beyond 4300 digits)."""
+    if isinstance(v, int) and not isinstance(v, bool) and v.bit_length() > 200:
+        digits = int(math.log10(abs(v))) + 1
+        digits -= abs(v) < 10 ** (digits - 1)  # log10 rounds 99...9 up to the next power of ten
+        return f"{'-' if v < 0 else ''}<an integer of about {digits} digits>"
+    if isinstance(v, (tuple, list)):
+        text = ", ".join(_fmt(c) for c in v[:10]) + (", ..." if len(v) > 10 else "")
+        text = f"({text})" if isinstance(v, tuple) else f"[{text}]"
+    elif isinstance(v, dict):
+        text = "{" + ", ".join(f"{_fmt(k)}: {_fmt(c)}" for k, c in list(v.items())[:10]) \
+            + (", ..." if len(v) > 10 else "") + "}"
+    else:
+        text = repr(v) if isinstance(v, str) else str(v)
+    if len(text) > MAX_QUOTED:
+        text = text[:MAX_QUOTED - 15] + f"... ({len(text)} characters)"
+    return text
 
 
 def validate(config: Config) -> Config:
@@ -229,11 +269,19 @@ def to_toml(config: Config) -> str:
     return tomli_w.dumps(to_dict(config))
 
 
+def _to_float(value):
+    """``float(value)`` of an integer, or the integer itself when it is beyond a float (the rule
+    check then refuses it, naming the key, instead of an ``OverflowError``)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        return float(value) if abs(value) <= _FLOAT_MAX else value
+    return value
+
+
 def _coerce(section, key, value, field_type):
     if field_type in ("tuple", tuple) and isinstance(value, list):
-        return tuple(float(c) if isinstance(c, int) and not isinstance(c, bool) else c for c in value)
-    if field_type in ("float", float) and isinstance(value, int) and not isinstance(value, bool):
-        return float(value)
+        return tuple(_to_float(c) for c in value)
+    if field_type in ("float", float):
+        return _to_float(value)
     return value
 
 
@@ -241,7 +289,7 @@ def _merge(config: Config, data: dict, origin: str, problems: list) -> Config:
     sections = {}
     for section, values in data.items():
         if section not in SECTION_TYPES:
-            problems.append(f"{origin}: unknown section [{section}]{suggest(section, SECTION_TYPES)}")
+            problems.append(f"{origin}: unknown section [{_name(section)}]{suggest(section, SECTION_TYPES)}")
             continue
         if not isinstance(values, dict):
             problems.append(f"{origin}: [{section}] must be a table of keys, got {_fmt(values)}")
@@ -251,7 +299,7 @@ def _merge(config: Config, data: dict, origin: str, problems: list) -> Config:
         updates = {}
         for key, value in values.items():
             if key not in known:
-                problems.append(f"{origin}: unknown key {section}.{key}{suggest(key, known)}")
+                problems.append(f"{origin}: unknown key {section}.{_name(key)}{suggest(key, known)}")
                 continue
             updates[key] = _coerce(section, key, value, known[key])
         sections[section] = replace(getattr(config, section), **updates)
@@ -261,9 +309,10 @@ def _merge(config: Config, data: dict, origin: str, problems: list) -> Config:
 def scenario(name: str) -> Config:
     """The built-in scenario ``name`` (see :data:`SCENARIOS`), validated."""
     if name not in SCENARIOS:
-        raise ConfigError([f"scenario = {name!r}: must be one of "
+        raise ConfigError([f"scenario = {_fmt(name)}: must be one of "
                            + ", ".join(repr(s) for s in SCENARIOS) + suggest(name, SCENARIOS)])
     data = {k: v for k, v in SCENARIOS[name].items() if k != "description"}
+    data["solver"] = {"max_wall_time": DEFAULT_MAX_WALL_TIME, **data.get("solver", {})}
     return validate(_merge(Config(), data, f"scenario {name}", []))
 
 
@@ -299,26 +348,92 @@ def _validated(config: Config, problems: list) -> Config:
 def load(path) -> Config:
     """Read and validate a TOML configuration file."""
     path = Path(path)
+    return from_dict(read_toml(path, "configuration file"), origin=str(path))
+
+
+def read_toml(path, what="configuration file") -> dict:
+    """The parsed TOML document at ``path``; every fault is a one-line :class:`ConfigError`.
+
+    UTF-8 text, with or without a byte-order mark. A folder, an unreadable file, bytes that are
+    not UTF-8 and invalid TOML (a duplicated key named) are reported without quoting the file.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ConfigError([f"{path}: is a folder, not a {what}"])
     try:
-        text = path.read_text(encoding="utf-8")
+        raw = path.read_bytes()
     except OSError as exc:
-        raise ConfigError([f"{path}: cannot read the configuration file ({exc.strerror or exc})"]) from None
+        raise ConfigError([f"{path}: cannot read the {what} ({exc.strerror or exc})"]) from None
     try:
-        data = tomllib.loads(text)
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ConfigError([f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); "
+                           f"a {what} is TOML, in UTF-8"]) from None
+    return parse_toml(text, str(path))
+
+
+def parse_toml(text: str, origin: str) -> dict:
+    """``tomllib.loads(text)`` with faults as a one-line :class:`ConfigError` naming ``origin``
+    (a duplicated key by its name; an integer too long for Python to read)."""
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError([f"{path}: not valid TOML ({exc})"]) from None
-    return from_dict(data, origin=str(path))
+        raise ConfigError([f"{origin}: not valid TOML ({_toml_fault(exc, text)})"]) from None
+    except ValueError:  # int() refuses more than sys.get_int_max_str_digits() digits
+        raise ConfigError([f"{origin}: not valid TOML (an integer of thousands of digits, too long to "
+                           "read)"]) from None
+    except RecursionError:
+        raise ConfigError([f"{origin}: not valid TOML (nested too deeply)"]) from None
+
+
+def _toml_fault(exc, text):
+    """tomllib's message, naming the key for "Cannot overwrite a value" (which it does not)."""
+    import re
+
+    message = str(exc)
+    if not message.startswith("Cannot overwrite a value"):
+        return message
+    m = re.search(r"at line (\d+)", message)
+    lines = text.splitlines()
+    n = int(m.group(1)) if m else len(lines)
+    while n > 1 and (n > len(lines) or not lines[n - 1].strip()):
+        n -= 1
+    table = ""
+    for line in lines[:n]:
+        header = re.match(r"\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(#.*)?$", line)
+        if header:
+            table = header.group(1).replace(" ", "")
+    assignment = re.match(r"\s*([^=]+?)\s*=", lines[n - 1]) if 0 < n <= len(lines) else None
+    if not assignment:
+        return message
+    key = assignment.group(1)
+    key = f"{table}.{key}" if table else key
+    return f"key {_fmt(key)} is given twice, at line {n}"
 
 
 def parse_override(text: str) -> tuple[str, object]:
-    """Split ``"section.key=value"``; the value is read as TOML, else as a string."""
+    """Split ``"section.key=value"``; the value is read as TOML, else as a string.
+
+    The value must be on one line (text after a line break would otherwise be lost); section
+    and key must both be named.
+    """
+    shown = _fmt(text)
     if "=" not in text or "." not in text.split("=", 1)[0]:
-        raise ConfigError([f"--set {text!r}: must look like section.key=value, e.g. beam.modes=5"])
+        raise ConfigError([f"--set {shown}: must look like section.key=value, e.g. beam.modes=5"])
     name, raw = (part.strip() for part in text.split("=", 1))
+    section, _, key = name.partition(".")
+    if not section.strip() or not key.strip():
+        raise ConfigError([f"--set {shown}: must look like section.key=value, e.g. beam.modes=5 "
+                           f"(the {'section' if not section.strip() else 'key'} is missing)"])
+    if any(c in raw for c in "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"):
+        raise ConfigError([f"--set {shown}: the value must be on one line"])
     try:
         value = tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw
+    except ValueError:  # an integer of more digits than Python reads (sys.get_int_max_str_digits)
+        raise ConfigError([f"--set {_name(name)}=...: the value is an integer of {len(raw)} digits, "
+                           "too long to read"]) from None
     return name, value
 
 
@@ -326,9 +441,9 @@ def _apply_overrides(config: Config, overrides: dict) -> Config:
     nested: dict[str, dict] = {}
     problems = []
     for name, value in overrides.items():
-        section, _, key = name.partition(".")
-        if not key:
-            problems.append(f"override {name!r}: must be section.key")
+        section, _, key = str(name).partition(".")
+        if not section or not key:
+            problems.append(f"override {_fmt(name)}: must be section.key, e.g. beam.modes")
             continue
         nested.setdefault(section, {})[key] = value
     return _validated(_merge(config, nested, "override", problems), problems)
@@ -354,7 +469,7 @@ def resolve(source="paper", overrides=None) -> Config:
     elif isinstance(source, (str, Path)) and (str(source).endswith(".toml") or Path(source).exists()):
         config = load(source)
     else:
-        raise ConfigError([f"source = {source!r}: not a scenario ("
+        raise ConfigError([f"source = {_fmt(source)}: not a scenario ("
                            + ", ".join(SCENARIOS) + f"), a TOML file, a dict or a Config"
                            + (suggest(source, SCENARIOS) if isinstance(source, str) else "")])
     if overrides:

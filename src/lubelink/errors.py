@@ -9,11 +9,37 @@ from __future__ import annotations
 
 import difflib
 
-__all__ = ["UsageError", "suggest"]
+__all__ = ["UsageError", "Terminated", "suggest", "exit_status", "interrupted"]
 
 
 class UsageError(Exception):
     """Bad command-line input, reported as one line per problem with status 2."""
+
+
+class Terminated(KeyboardInterrupt):
+    """A termination signal (SIGTERM, SIGHUP) raised as an interruption, so that it gets the same
+    clean-up as Ctrl-C; ``signum`` is the signal."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = int(signum)
+
+
+def exit_status(exc) -> int:
+    """Exit status of an interruption: 130 for Ctrl-C, 128 + the signal number for the others."""
+    return 128 + exc.signum if isinstance(exc, Terminated) else 130
+
+
+def interrupted(exc) -> str:
+    """``"interrupted"`` (Ctrl-C) or ``"terminated by SIGTERM"``."""
+    if isinstance(exc, Terminated):
+        import signal
+
+        try:
+            return f"terminated by {signal.Signals(exc.signum).name}"
+        except ValueError:
+            return f"terminated by signal {exc.signum}"
+    return "interrupted"
 
 
 def suggest(name, options) -> str:

@@ -9,18 +9,20 @@ versions and the full configuration as TOML text, enough to re-run it (:func:`co
 
 from __future__ import annotations
 
+import os
 import platform
 import time
+from contextlib import contextmanager
 from functools import lru_cache
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
-from ._files import atomic_path
+from ._files import atomic_path, target_problem
 
 __all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "to_dataset", "write", "save", "load",
-           "config_of", "atomic_path", "ResultsFileError", "versions"]
+           "config_of", "atomic_path", "ResultsFileError", "versions", "output_problem", "NETCDF_SUFFIXES"]
 
 
 class Variable(NamedTuple):
@@ -212,7 +214,7 @@ def write(results: Results, path, overwrite=False):
     import netCDF4
 
     path = _checked_target(path, overwrite)
-    with atomic_path(path) as tmp:
+    with _publishing(path, overwrite) as tmp:
         with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
             sizes = {}
             for dims, data, _ in list(results.coords.values()) + list(results.data_vars.values()):
@@ -230,13 +232,47 @@ def write(results: Results, path, overwrite=False):
     return path
 
 
+#: File name suffixes of results files (NetCDF); any other is refused rather than silently written as NetCDF.
+NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
+#: :func:`output_problem` of a target that exists (when replacing it was not asked for).
+EXISTS = "the file exists"
+
+
+def output_problem(path, overwrite=False):
+    """Why results could not be written at ``path``, or None; checked before a run, so that a
+    run is not lost at the end: a NetCDF suffix, an existing file only with ``overwrite`` and only
+    a regular file, a writable folder (:func:`lubelink._files.target_problem`)."""
+    path = Path(path)
+    if path.suffix.lower() not in NETCDF_SUFFIXES:
+        return (f"results are written as NetCDF; name the file *.nc (e.g. {path.with_suffix('.nc').name})"
+                if path.suffix else f"results are written as NetCDF; name the file {path.name}.nc")
+    if os.path.lexists(path) and not overwrite:
+        return EXISTS
+    return target_problem(path)
+
+
 def _checked_target(path, overwrite):
     path = Path(path)
-    if path.exists() and not overwrite:
+    problem = output_problem(path, overwrite)
+    if problem == EXISTS:
         raise ResultsFileError(f"{path} exists; pass overwrite=True (--overwrite) to replace it")
-    if not path.parent.exists():
-        raise ResultsFileError(f"{path}: folder {path.parent} does not exist")
+    if problem:
+        raise ResultsFileError(f"{path}: {problem}")
     return path
+
+
+@contextmanager
+def _publishing(path, overwrite):
+    """:func:`atomic_path`, its refusals as :class:`ResultsFileError` (a file that appeared at
+    ``path`` since the check, or that is not a regular file)."""
+    try:
+        with atomic_path(path, overwrite=overwrite) as tmp:
+            yield tmp
+    except FileExistsError:
+        raise ResultsFileError(f"{path} appeared while the results were computed; it was not replaced "
+                               "(pass overwrite=True, --overwrite, to replace it)") from None
+    except IsADirectoryError as exc:
+        raise ResultsFileError(f"{path}: {exc.strerror}") from None
 
 
 def save(dataset, path, overwrite=False):
@@ -245,11 +281,13 @@ def save(dataset, path, overwrite=False):
     Raises
     ------
     ResultsFileError
-        If ``path`` exists and ``overwrite`` is false, or the folder is missing.
+        If ``path`` exists and ``overwrite`` is false (also when it appears while writing), is not
+        a regular file, does not end in ``.nc`` (:data:`NETCDF_SUFFIXES`), or its folder is missing
+        or not writable.
     """
     path = _checked_target(path, overwrite)
     encoding = {name: {"zlib": True, "complevel": COMPRESSION} for name, v in dataset.variables.items() if v.size}
-    with atomic_path(path) as tmp:
+    with _publishing(path, overwrite) as tmp:
         dataset.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
     return path
 
@@ -273,9 +311,21 @@ def load(path):
 
 
 def config_of(dataset):
-    """The :class:`~lubelink.params.Config` a results dataset was computed with."""
-    import tomllib
+    """The :class:`~lubelink.params.Config` a results dataset was computed with.
 
-    from .config import from_dict
+    Raises :class:`ResultsFileError` for a dataset that is not lubelink results (no ``config``
+    attribute, or not TOML), :class:`~lubelink.config.ConfigError` for a configuration this
+    version does not accept.
+    """
+    from .config import ConfigError, from_dict, parse_toml
 
-    return from_dict(tomllib.loads(dataset.attrs["config"]))
+    attrs = getattr(dataset, "attrs", None)
+    text = attrs.get("config") if isinstance(attrs, dict) else None
+    if not isinstance(text, str):
+        raise ResultsFileError("not lubelink results: the dataset has no 'config' attribute (the configuration "
+                               "it was computed with)")
+    try:
+        data = parse_toml(text, "the results' config attribute")
+    except ConfigError as exc:
+        raise ResultsFileError(f"not lubelink results: {exc.problems[0]}") from None
+    return from_dict(data, origin="the results' config attribute")

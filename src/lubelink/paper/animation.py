@@ -8,9 +8,10 @@ file atomically. Matplotlib is imported inside :func:`animate` only.
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
-from .._files import atomic_path
+from .._files import atomic_path, target_problem
 
 __all__ = ["animate"]
 
@@ -55,10 +56,11 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
     for name, value in (("--scale", scale), ("--fps", fps), ("--duration", duration), ("--speed", speed)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise ValueError(f"{name} = {value}: must be a positive number")
-    if output.exists() and not overwrite:
+    if os.path.lexists(output) and not overwrite:
         raise ValueError(f"-o {output}: the file exists; add --overwrite to replace it")
-    if not output.parent.exists():
-        raise ValueError(f"-o {output}: folder {output.parent} does not exist")
+    problem = target_problem(output)  # a regular file or nothing, in a writable folder
+    if problem:
+        raise ValueError(f"-o {output}: {problem}")
     import matplotlib.animation as manim
 
     if suffix == ".mp4" and not manim.FFMpegWriter.isAvailable():
@@ -87,7 +89,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
         def callback(i, n):
             bar.update(1)
     try:
-        with atomic_path(output) as tmp:
+        with atomic_path(output, overwrite=overwrite) as tmp:
             anim.save(str(tmp), writer=writer, dpi=dpi, progress_callback=callback)
     finally:
         if bar is not None:

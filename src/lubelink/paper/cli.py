@@ -32,6 +32,11 @@ def _cmd_figures(args):
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise UsageError(f"-o {out}: exists and is not a folder")
+    from .._files import folder_problem
+
+    problem = folder_problem(out if out.exists() else out.parent)  # before minutes of simulations
+    if problem:
+        raise UsageError(f"-o {out}: {problem}")
     formats = tuple(f.strip().lower() for f in args.formats.split(",") if f.strip())
     bad = [f for f in formats if f not in FORMATS]
     if bad or not formats:
@@ -62,6 +67,8 @@ def _cmd_animate(args):
         raise
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    except OSError as exc:  # the file appeared meanwhile, the disk filled up, ...
+        raise UsageError(f"-o {args.output}: could not be written ({exc.strerror or exc})") from None
     if not args.quiet:
         print(f"wrote {path}")
     return 0

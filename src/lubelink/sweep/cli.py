@@ -13,11 +13,11 @@ import json
 import sys
 from pathlib import Path
 
-from .._files import atomic_path
-from ..config import ConfigError
-from ..errors import UsageError
-from .execute import run_sweep
-from .parse import read_sweep
+from .._files import atomic_path, target_problem
+from ..config import ConfigError, _name
+from ..errors import UsageError, exit_status, interrupted
+from .execute import _bar, _cpu_count, check_size, output_problem, run_sweep
+from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .plot import plot_sweep
 from .schema import SweepError, _fmt, _parameters
 from .spec import Sweep
@@ -46,7 +46,11 @@ def register_cli(subparsers, add_config_args):
                    help="compute again the stored points whose status is not 'complete'")
     p.add_argument("--overwrite", action="store_true", help="discard a store that holds a different sweep")
     p.add_argument("--check", action="store_true",
-                   help="validate the sweep file and every point, print the plan and what is stored; compute nothing")
+                   help="print the plan (size, estimated time and memory, what is stored) at once, then validate "
+                        "every point; compute nothing")
+    p.add_argument("--max-points", metavar="N",
+                   help=f"run (or check) a sweep of up to N points; without it a sweep of more than {MAX_POINTS:,} "
+                        "points is refused up front, with its estimated time and memory")
     p.add_argument("--trace", metavar="FILE",
                    help="append a start and an end line per point computation to FILE (audit)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
@@ -74,7 +78,7 @@ def _require(*modules, extra):
         raise UsageError(f"{', '.join(missing)} not installed; install the extra: pip install 'lubelink[{extra}]'")
 
 
-def _plan(sp: Sweep, invalid, path):
+def _plan(sp: Sweep, path, estimate):
     params = _parameters()
     rows = [("sweep", sp.origin), ("base", f"{sp.base}" + (f", with [set] {', '.join(sp.fixed)}" if sp.fixed else ""))]
     for i, a in enumerate(sp.axes):
@@ -85,7 +89,8 @@ def _plan(sp: Sweep, invalid, path):
     if sp.point_rows:
         rows.append(("dimensions" if not sp.axes else "",
                      f"point: {len(sp.point_rows)} explicit points of {', '.join(sp.point_names)}"))
-    rows.append(("points", f"{sp.size}" + (f", {len(invalid)} invalid" if invalid else ", all valid")))
+    rows.append(("points", f"{sp.size:,}"))
+    rows.append(("estimate", str(estimate)))
     rows.append(("stored per point", ", ".join(("status", "message", "wall_time") + sp.quantities)
                  + (f"; time series {', '.join(sp.time_series)}" if sp.time_series else "")))
     rows.append(("hash", sp.hash[:16]))
@@ -138,8 +143,19 @@ def _summary(ds, sp: Sweep, path):
 
 def _cmd_sweep(args):
     path_in = Path(args.sweep_file)
-    if not path_in.is_file():
+    if path_in.is_dir():
+        raise UsageError(f"SWEEP.toml = {args.sweep_file!r}: is a folder, not a sweep file")
+    if not path_in.exists():
         raise UsageError(f"SWEEP.toml = {args.sweep_file!r}: no such file")
+    max_points = None
+    if args.max_points is not None:
+        try:
+            max_points = int(args.max_points)
+        except ValueError:
+            max_points = 0
+        if not 1 <= max_points <= MAX_POINTS_LIMIT:
+            raise UsageError(f"--max-points {_name(args.max_points)}: must be a whole number in "
+                             f"[1, {MAX_POINTS_LIMIT}]")
     workers = None
     if args.workers is not None:
         try:
@@ -152,29 +168,50 @@ def _cmd_sweep(args):
         raise UsageError("give either --scheduler ADDRESS (an existing cluster) or --workers N (a local one), not both")
     sp = read_sweep(path_in)
     out = Path(args.output) if args.output else Path(f"{path_in.stem}.zarr")
-    if not out.parent.is_dir():
-        raise UsageError(f"-o {out}: folder {out.parent} does not exist")
+    problem = output_problem(out)
+    if problem:
+        raise UsageError(f"-o {out}: {problem}")
+    estimate = sp.estimate(workers or (None if args.scheduler else _cpu_count()))
     if args.check:
-        configs, invalid = sp.point_configs()
-        print(_plan(sp, invalid, out))
+        print(_plan(sp, out, estimate), flush=True)  # at once, before the points are validated
+        try:
+            check_size(sp, max_points, estimate.workers)
+        except SweepError as exc:
+            raise UsageError(str(exc)) from None
+        bar = _bar(not args.quiet and sys.stderr.isatty(), sp.size, "validating") if sp.size >= 500 else None
+        try:
+            invalid = sp.invalid_points_of(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
+        finally:
+            if bar is not None:
+                bar.close()
+        print(_table([("validated".ljust(len("stored per point")), f"{sp.size:,} points, "
+                                    + (f"{len(invalid):,} invalid" if invalid else "all valid"))]))
         if invalid and sp.invalid_points == "error":
             raise ConfigError(sp.invalid_report(invalid))
         return 0
-    _require("distributed", "zarr", "xarray", extra="sweep")
-    if not args.quiet:
-        print(f"{sp.origin}: {sp.size} points -> {out}", file=sys.stderr)
     try:
-        ds = run_sweep(sp, out, scheduler=args.scheduler, workers=workers, retry_failed=args.retry_failed,
-                       overwrite=args.overwrite, progress=not args.quiet, trace=args.trace)
+        check_size(sp, max_points, estimate.workers)
     except SweepError as exc:
         raise UsageError(str(exc)) from None
-    except KeyboardInterrupt:
+    _require("distributed", "zarr", "xarray", extra="sweep")
+    if not args.quiet:
+        print(f"{sp.origin}: {sp.size:,} points -> {out}; estimate {estimate}", file=sys.stderr)
+    try:
+        ds = run_sweep(sp, out, scheduler=args.scheduler, workers=workers, retry_failed=args.retry_failed,
+                       overwrite=args.overwrite, progress=not args.quiet, trace=args.trace,
+                       max_points=max_points)
+    except SweepError as exc:
+        raise UsageError(str(exc)) from None
+    except KeyboardInterrupt as exc:
         stored = "?"
         with contextlib.suppress(Exception):
             stored = int(load_sweep(out).done.sum())
-        print(f"lubelink: interrupted; {stored} of {sp.size} points are stored in {out}; run the same "
-              "command again to resume", file=sys.stderr)
-        return 130
+        if not (out.exists() or _side_store(out).exists()):
+            print(f"lubelink: {interrupted(exc)}; no point was stored", file=sys.stderr)
+        else:
+            print(f"lubelink: {interrupted(exc)}; {stored} of {sp.size} points are stored in {out}; run the same "
+                  "command again to resume", file=sys.stderr)
+        return exit_status(exc)
     if not args.quiet:
         print(_summary(ds, sp, out))
     return 0 if bool(ds.done.all()) else 1
@@ -190,6 +227,8 @@ def _cmd_plot_sweep(args):
             raise UsageError(f"--select {text!r}: must look like DIM=VALUE, e.g. film.viscosity=0.1")
         dim, value = (part.strip() for part in text.split("=", 1))
         select[dim] = value
+    if args.output:
+        _check_image(Path(args.output))
     _require("matplotlib", "zarr", "xarray", extra="plot,sweep")
     import matplotlib
 
@@ -202,9 +241,25 @@ def _cmd_plot_sweep(args):
         raise UsageError(str(exc)) from None
     quantity = quantity or ("peak_u2_mid" if "peak_u2_mid" in ds else "status")
     out = Path(args.output) if args.output else Path(f"{path.name.split('.')[0]}-{quantity}.png")
-    if not out.parent.is_dir():
-        raise UsageError(f"-o {out}: folder {out.parent} does not exist")
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, dpi=120, bbox_inches="tight", format=out.suffix.lstrip(".").lower() or "png")
+    _check_image(out)
+    try:
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, dpi=120, bbox_inches="tight", format=out.suffix.lstrip(".").lower() or "png")
+    except OSError as exc:
+        raise UsageError(f"-o {out}: could not be written ({exc.strerror or exc})") from None
     print(f"wrote {out}")
     return 0
+
+
+#: Image formats of ``plot-sweep -o`` (Matplotlib's, by suffix).
+IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".eps", ".ps")
+
+
+def _check_image(out):
+    """Refuse, before drawing, an image file that cannot be written (plots are replaced, but only
+    regular files; the format comes from the suffix)."""
+    if out.suffix.lower() not in IMAGE_SUFFIXES:
+        raise UsageError(f"-o {out}: name an image file, one of " + ", ".join(f"*{s}" for s in IMAGE_SUFFIXES))
+    problem = target_problem(out)
+    if problem:
+        raise UsageError(f"-o {out}: {problem}")

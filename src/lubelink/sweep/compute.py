@@ -78,7 +78,7 @@ class _TaskOptions:
 
 def _trace(path, event, tag, flat):
     """Append one line to the audit trace (O_APPEND, one write: safe from many processes)."""
-    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
     try:
         os.write(fd, f"{time.time():.6f} {os.getpid()} {event} {tag} {flat}\n".encode())
     finally:

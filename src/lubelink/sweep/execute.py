@@ -23,7 +23,7 @@ import numpy as np
 from ..config import ConfigError
 from .compute import _compute_points, _describe, _empty_record, _TaskOptions
 from .layout import _time_axis
-from .parse import read_sweep
+from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .schema import SweepError
 from .store import _check_attrs, _export_netcdf, _is_netcdf, _side_store, _Store, load_sweep
 
@@ -82,7 +82,7 @@ def _dask_client(client, scheduler, workers):
 
 
 def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, retry_failed=False,
-              overwrite=False, progress=True, trace=None, task_seconds=0.5):
+              overwrite=False, progress=True, trace=None, task_seconds=0.5, max_points=None):
     """Run a parameter sweep on Dask and return every point's results.
 
     Points already in ``store`` are skipped (the run resumes); each finished
@@ -119,6 +119,10 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
         points as take about this long [s] (at least one), so that Dask's
         per-task overhead stays small for short points; 0 sends one point
         per task. A crash loses at most the tasks being computed.
+    max_points : int, optional
+        Largest sweep to run (default :data:`~lubelink.sweep.parse.MAX_POINTS`, 100000): a
+        larger one is refused before anything is validated or stored, with its estimated time
+        and memory; give its size (or more) to run it.
 
     Returns
     -------
@@ -134,7 +138,8 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
         An invalid sweep file, or invalid points (unless
         ``invalid_points = "record"``), before anything is computed.
     SweepError
-        A store of another sweep, a store in use, an unreachable scheduler.
+        A store of another sweep, a store in use, an unreachable scheduler, an output that cannot
+        be written, a sweep larger than ``max_points``.
     """
     sp = read_sweep(sweep)
     if store is None:
@@ -146,27 +151,61 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
         raise SweepError("give either a scheduler address or a number of local workers, not both")
     if client is not None and (scheduler or workers):
         raise SweepError("give either a Dask client or a scheduler address / number of workers")
+    check_size(sp, max_points, workers or (None if scheduler or client is not None else _cpu_count()))
+    problem = output_problem(path)
+    if problem:
+        raise SweepError(f"{path}: {problem}")
 
+    with contextlib.ExitStack() as stack:
+        where = None
+        if scheduler:  # reach it before anything is created: an unreachable one leaves nothing behind
+            client, where = stack.enter_context(_dask_client(None, scheduler, None))
+        return _run(sp, path, client, where, workers, retry_failed, overwrite, progress, trace, task_seconds)
+
+
+def check_size(sp, max_points=None, workers=None):
+    """Refuse a sweep of more points than ``max_points`` (default :data:`MAX_POINTS`), saying what
+    it would cost (:meth:`Sweep.estimate`)."""
+    cap = MAX_POINTS if max_points is None else int(max_points)
+    if sp.size > cap:
+        hint = (f"allow it with --max-points {sp.size} (max_points= in Python)"
+                if sp.size <= MAX_POINTS_LIMIT else f"split it (at most {MAX_POINTS_LIMIT:.0e} points)")
+        raise SweepError(f"{sp.origin}: {sp.size:,} points, more than the limit of {cap:,}; it would take "
+                         f"{sp.estimate(workers)}; {hint}")
+
+
+def output_problem(path):
+    """Why a sweep's results could not be written at ``path`` (checked before anything runs)."""
+    from .._files import folder_problem, target_problem
+
+    if _is_netcdf(path):
+        return target_problem(path) if os.path.lexists(path) else folder_problem(path.parent)
+    if os.path.lexists(path):
+        return target_problem(path, directory=True)
+    return folder_problem(path.parent)
+
+
+def _run(sp, path, client, where, workers, retry_failed, overwrite, progress, trace, task_seconds):
     bar = _bar(progress, sp.size, "validating") if sp.size >= 500 else None
     try:
-        configs, invalid = sp.point_configs(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
+        invalid = sp.invalid_points_of(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
     finally:
         if bar is not None:
             bar.close()
     if invalid and sp.invalid_points == "error":
         raise ConfigError(sp.invalid_report(invalid))
+    valid = np.ones(sp.size, dtype=bool)
+    valid[list(invalid)] = False
 
     export = None
     if _is_netcdf(path):
         export, side = path, _side_store(path)
-        if not path.parent.is_dir():
-            raise SweepError(f"{path}: folder {path.parent} does not exist")
         if path.exists() and not side.exists():
             previous = load_sweep(path)
             if _check_attrs(path, previous.attrs, sp, overwrite):
                 previous = None
-            elif not _pending(sp, configs, previous.done.values.reshape(-1),
-                              previous.status.values.reshape(-1), retry_failed) \
+            elif not len(_pending(valid, previous.done.values.reshape(-1), previous.status.values.reshape(-1),
+                                  retry_failed)) \
                     and not _unrecorded(invalid, previous.done.values.reshape(-1)):
                 return previous  # nothing to do
         else:
@@ -181,28 +220,35 @@ def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, r
                "interrupted": False, "host": os.uname().nodename if hasattr(os, "uname") else "",
                "lubelink_version": _lubelink_version()}
     t0 = time.perf_counter()
+    discard = False
     try:
         done, status = st.state()
         st.write([(flat, _empty_record(sp.quantities, sp.max_impacts, "invalid", "; ".join(invalid[flat]), 0.0), {})
                   for flat in _unrecorded(invalid, done)])
         done, status = st.state()
-        pending = _pending(sp, configs, done, status, retry_failed)
-        session["resumed"] = int(done.sum()) - int(done[pending].sum()) if pending else int(done.sum())
-        if pending:
-            with _dask_client(client, scheduler, workers) as (cl, where):
-                session["scheduler"] = where
-                _execute(cl, st, sp, configs, pending, done, status, progress, trace, session, task_seconds)
-    except KeyboardInterrupt:
+        pending = _pending(valid, done, status, retry_failed)
+        session["resumed"] = int(done.sum()) - int(done[pending].sum())
+        if len(pending):
+            with _dask_client(client, None, workers) as (cl, described):
+                session["scheduler"] = where or described
+                _execute(cl, st, sp, pending, done, status, progress, trace, session, task_seconds)
+    except BaseException:
         session["interrupted"] = True
+        # a store this call created, in which no point was computed: leave nothing behind
+        discard = st.created and session["computed"] == 0
         raise
     finally:
         session["wall_time"] = round(time.perf_counter() - t0, 3)
         session["finished"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-        st.close(session)
-        if export is not None:
-            ds = _export_netcdf(st.path, export)
-            if bool(ds.done.all()):
-                shutil.rmtree(st.path, ignore_errors=True)
+        if discard:
+            st.close_files()
+            shutil.rmtree(st.path, ignore_errors=True)
+        else:
+            st.close(session)
+            if export is not None:
+                ds = _export_netcdf(st.path, export)
+                if bool(ds.done.all()):
+                    shutil.rmtree(st.path, ignore_errors=True)
     return load_sweep(path)
 
 
@@ -220,10 +266,28 @@ def _unrecorded(invalid, done):
     return [flat for flat in invalid if not done[flat]]
 
 
-def _pending(sp, configs, done, status, retry_failed):
-    """Flat indices to compute: valid points not stored (and failed ones with ``retry_failed``)."""
-    return [flat for flat in configs
-            if not done[flat] or (retry_failed and str(status[flat]) not in ("complete", "invalid"))]
+def _pending(valid, done, status, retry_failed):
+    """Flat indices to compute (an array): valid points not stored (and failed ones with ``retry_failed``)."""
+    todo = valid & ~done
+    if retry_failed:
+        todo |= valid & done & (status != "complete") & (status != "invalid")
+    return np.flatnonzero(todo)
+
+
+class _Queue:
+    """The pending flat indices (a NumPy array) consumed from the front, as ``deque`` would be;
+    a large sweep keeps one integer array, not a Python object per point."""
+
+    def __init__(self, flats):
+        self._flats, self._next = np.asarray(flats, dtype=np.int64), 0
+
+    def __len__(self):
+        return len(self._flats) - self._next
+
+    def popleft(self):
+        flat = int(self._flats[self._next])
+        self._next += 1
+        return flat
 
 
 def _bar(progress, total, desc, initial=0):
@@ -235,7 +299,7 @@ def _bar(progress, total, desc, initial=0):
                            "{rate_fmt}{postfix}]")
 
 
-def _execute(client, st, sp, configs, pending, done, status, progress, trace, session, task_seconds):
+def _execute(client, st, sp, pending, done, status, progress, trace, session, task_seconds):
     """Submit the pending points in a moving window of tasks; store each task's points as it completes.
 
     A task computes one point, or, once the points are known to be short, as many as take about
@@ -251,13 +315,13 @@ def _execute(client, st, sp, configs, pending, done, status, progress, trace, se
                         output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
     trace = str(Path(trace).resolve()) if trace else None
     token = uuid.uuid4().hex[:8]
-    queue = deque(pending)
+    queue = _Queue(pending)
     single = deque()  # points of a batch that killed its workers: run again one per task
     active = {}
     ac = as_completed(with_results=True, raise_errors=False)
-    retried = set(pending) & set(np.flatnonzero(done).tolist())
-    failed = sum(1 for f in range(sp.size) if done[f] and str(status[f]) != "complete") - len(retried)
-    n_done = int(done.sum()) - len(retried)
+    retried = int(done[pending].sum())
+    failed = int((done & (status != "complete")).sum()) - retried
+    n_done = int(done.sum()) - retried
     per_point = None  # seconds per point on a worker (moving average)
 
     def threads():
@@ -282,7 +346,7 @@ def _execute(client, st, sp, configs, pending, done, status, progress, trace, se
             tasks.append(batch())
         if not tasks:
             return
-        futures = client.map(_compute_points, tasks, [[configs[f] for f in t] for t in tasks], opts=opts,
+        futures = client.map(_compute_points, tasks, [[sp.point_config(f) for f in t] for t in tasks], opts=opts,
                              trace=trace, pure=False,
                              key=[f"lubelink-sweep-{sp.hash[:8]}-{token}-{t[0]}-{len(t)}" for t in tasks])
         for task, fut in zip(tasks, futures):

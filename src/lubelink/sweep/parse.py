@@ -9,12 +9,11 @@ are validated later, by :meth:`Sweep.point_configs <.spec.Sweep.point_configs>`.
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
-from ..config import SCENARIOS, ConfigError
+from ..config import SCENARIOS, ConfigError, _name, read_toml
 from ..errors import suggest
 from .schema import DEFAULT_QUANTITIES, QUANTITIES, SERIES, _fmt, _parameters
 from .spec import Axis, Sweep
@@ -26,22 +25,25 @@ _TIME_KEYS = ("solver.t_end", "solver.output_step")
 _TOP_KEYS = ("base", "description", "invalid_points", "set", "vary", "points", "store")
 _STORE_KEYS = ("quantities", "time_series", "max_impacts")
 _RANGE_KEYS = ("start", "stop", "num", "scale")
-#: Largest sweep accepted (each point is validated and held in memory by the client).
-MAX_POINTS = 10_000_000
+#: Largest sweep run (or checked) without asking: a larger one is refused up front, with its
+#: estimated time and memory, unless ``--max-points`` (``run_sweep(max_points=...)``) allows it.
+MAX_POINTS = 100_000
+#: Largest ``--max-points``: the flat index of a point must fit the store's integer types.
+MAX_POINTS_LIMIT = 1_000_000_000
 
 
 def _scalar(name, ftype, value, where, problems):
     """``value`` as the Python type of parameter ``name``, or None with a problem recorded."""
     ok = True
     if ftype == "float":
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and _finite_or_float(value)
         value = float(value) if ok else value
-        kind = "a number"
+        kind = "a number within the range of a float"
     elif ftype == "int":
         if isinstance(value, float) and value.is_integer():
             value = int(value)
-        ok = isinstance(value, int) and not isinstance(value, bool)
-        kind = "an integer"
+        ok = isinstance(value, int) and not isinstance(value, bool) and abs(value) < 2**63
+        kind = "an integer (of 64 bits)"
     elif ftype == "str":
         ok = isinstance(value, str)
         kind = "a string"
@@ -55,6 +57,14 @@ def _scalar(name, ftype, value, where, problems):
         problems.append(f"{where} = {_fmt(value)}: must be {kind} ({name} is {ftype})")
         return None
     return value
+
+
+def _finite_or_float(value) -> bool:
+    """True when ``float(value)`` works: a float, or an integer within the range of a float."""
+    return not isinstance(value, int) or abs(value) <= _FLOAT_MAX
+
+
+_FLOAT_MAX = 1.7976931348623157e308
 
 
 def _flatten(table, where, params, problems):
@@ -72,7 +82,7 @@ def _flatten(table, where, params, problems):
             items = [(key, value)]
         for name, v in items:
             if name not in params:
-                problems.append(f"{where}.\"{name}\": unknown parameter, must be section.key"
+                problems.append(f"{where}.\"{_name(name)}\": unknown parameter, must be section.key"
                                 + suggest(name, params))
                 continue
             out[name] = v
@@ -98,14 +108,7 @@ def read_sweep(source) -> Sweep:
     if isinstance(source, dict):
         return _parse(dict(source), origin="sweep", root=Path.cwd())
     path = Path(source)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError([f"{path}: cannot read the sweep file ({exc.strerror or exc})"]) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError([f"{path}: not valid TOML ({exc})"]) from None
+    data = read_toml(path, "sweep file")
     return _parse(data, origin=str(path), root=path.parent)
 
 
@@ -116,7 +119,7 @@ def _parse(data, origin, root) -> Sweep:
     problems = []
     for key in data:
         if key not in _TOP_KEYS:
-            problems.append(f"{origin}: unknown key '{key}'{suggest(key, _TOP_KEYS)}; a sweep file has "
+            problems.append(f"{origin}: unknown key '{_name(key)}'{suggest(key, _TOP_KEYS)}; a sweep file has "
                             + ", ".join(_TOP_KEYS))
 
     # ---- base and fixed overrides
@@ -128,8 +131,12 @@ def _parse(data, origin, root) -> Sweep:
         base_source = base
     elif (root / base).is_file():
         base_source = root / base
+        problem = _base_file_problem(base_source)
+        if problem:
+            problems.append(f"{origin}: base = {_fmt(base)}: {problem}")
+            base_source = None
     else:
-        problems.append(f"{origin}: base = {base!r}: not a scenario (" + ", ".join(SCENARIOS)
+        problems.append(f"{origin}: base = {_fmt(base)}: not a scenario (" + ", ".join(SCENARIOS)
                         + f") nor a configuration file (looked for {root / base})" + suggest(base, SCENARIOS))
     fixed = {}
     for name, value in _flatten(data.get("set", {}), "set", params, problems).items():
@@ -158,9 +165,6 @@ def _parse(data, origin, root) -> Sweep:
         point_names, point_rows = _points(data["points"], params, fixed, {a.name for a in axes}, problems)
     if not axes and not point_rows and not problems:
         problems.append(f"{origin}: nothing to sweep: give [vary] parameters or [[points]]")
-    size = math.prod(len(a.values) for a in axes) * max(1, len(point_rows))
-    if size > MAX_POINTS:
-        problems.append(f"{origin}: {size:.3g} points: more than {MAX_POINTS:.0e}; split the sweep")
 
     # ---- store
     store = data.get("store", {})
@@ -170,7 +174,7 @@ def _parse(data, origin, root) -> Sweep:
         store = {}
     for key in store:
         if key not in _STORE_KEYS:
-            problems.append(f"store.{key}: unknown key{suggest(key, _STORE_KEYS)}; [store] has "
+            problems.append(f"store.{_name(key)}: unknown key{suggest(key, _STORE_KEYS)}; [store] has "
                             + ", ".join(_STORE_KEYS))
     if "quantities" in store:
         quantities = _names(store["quantities"], "store.quantities", QUANTITIES, problems)
@@ -213,11 +217,29 @@ def _parse(data, origin, root) -> Sweep:
                  origin=origin)
 
 
+def _base_file_problem(path):
+    """Why the configuration file ``path`` cannot be a sweep's base, or None.
+
+    Its faults are not quoted: a sweep file may name any file (``base = "../../secrets.toml"``),
+    and whoever runs the sweep would see pieces of it in the messages. The user checks the file
+    with ``lubelink config FILE``, which does quote it.
+    """
+    from ..config import load
+
+    try:
+        load(path)
+    except ConfigError as exc:
+        n = len(exc.problems)
+        return (f"{path} is not a valid lubelink configuration file ({n} problem{'s' if n > 1 else ''}, not "
+                f"shown here; run: lubelink config {path})")
+    return None
+
+
 def _axis(name, spec, ftype, where, problems):
     if isinstance(spec, dict):
         for key in spec:
             if key not in _RANGE_KEYS:
-                problems.append(f"{where}.{key}: unknown key{suggest(key, _RANGE_KEYS)}; a range has "
+                problems.append(f"{where}.{_name(key)}: unknown key{suggest(key, _RANGE_KEYS)}; a range has "
                                 "start, stop, num and optionally scale = \"linear\" | \"log\"")
         missing = [k for k in ("start", "stop", "num") if k not in spec]
         if missing:
@@ -227,7 +249,8 @@ def _axis(name, spec, ftype, where, problems):
         scale = spec.get("scale", "linear")
         bad = len(problems)
         for key, v in (("start", start), ("stop", stop)):
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not _finite_or_float(v) \
+                    or not math.isfinite(v):
                 problems.append(f"{where}.{key} = {_fmt(v)}: must be a finite number")
         if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 1_000_000:
             problems.append(f"{where}.num = {_fmt(num)}: must be an integer in [1, 1000000]")
@@ -297,6 +320,11 @@ def _points(spec, params, fixed, varied, problems):
         return (), ()
     if not rows:
         problems.append("points: no points given")
+        return (), ()
+    empty = [i for i, row in enumerate(rows) if not row]
+    if empty:
+        problems.append(f"points[{empty[0]}]: an empty point; each point sets at least one parameter"
+                        + (f" ({len(empty)} empty points)" if len(empty) > 1 else ""))
         return (), ()
     names = tuple(rows[0])
     out = []

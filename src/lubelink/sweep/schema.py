@@ -86,7 +86,10 @@ def _parameters():
 
 
 def _fmt(v):
-    """A value as it is written in messages and labels (floats to 6 significant digits)."""
+    """A value as it is written in messages and labels (floats to 6 significant digits; long
+    values shortened as :func:`lubelink.config._fmt` does)."""
     if isinstance(v, float):
         return f"{v:.6g}"
-    return repr(v) if isinstance(v, str) else str(v)
+    from ..config import _fmt as quoted
+
+    return quoted(v)

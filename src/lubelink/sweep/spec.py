@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import dataclass, replace
 from functools import cached_property
 
@@ -18,7 +19,43 @@ import numpy as np
 from ..config import ConfigError
 from .schema import SWEEP_FORMAT, _fmt
 
-__all__ = ["Axis", "Sweep"]
+__all__ = ["Axis", "Sweep", "SweepEstimate"]
+
+#: Seconds per point besides the simulation: the Dask task, the summary, the store.
+POINT_OVERHEAD = 0.02
+#: Seconds per value of a point's results Dataset (deflection and pressure samples).
+ASSEMBLY_PER_VALUE = 2e-8
+#: Bytes of a status or message string held as a Python object.
+STRING_BYTES = 80
+#: Bytes of the client process besides the results (Python, NumPy, xarray, Dask).
+MEMORY_BASE = 300e6
+
+
+@dataclass(frozen=True)
+class SweepEstimate:
+    """Up-front estimate of a sweep: points, client memory [B], store size [B], time [s]."""
+
+    points: int
+    memory_bytes: float
+    store_bytes: float
+    cpu_seconds: float
+    wall_seconds: float
+    workers: int | None
+
+    def __str__(self):
+        from ..estimate import duration
+
+        time = (f"about {duration(self.wall_seconds)} on {self.workers} worker(s) ({duration(self.cpu_seconds)} "
+                "of CPU)" if self.workers else f"about {duration(self.cpu_seconds)} of CPU (over the workers)")
+        return (f"{time}, client memory about {_bytes(self.memory_bytes)}, "
+                f"store about {_bytes(self.store_bytes)} before compression")
+
+
+def _bytes(n):
+    for unit, size in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{n:.0f} B"
 
 
 @dataclass(frozen=True)
@@ -72,7 +109,7 @@ class Sweep:
 
     @property
     def size(self) -> int:
-        return int(np.prod(self.shape))
+        return math.prod(self.shape)  # exact, however large (np.prod would overflow int64)
 
     def overrides(self, flat: int) -> dict:
         """``{"section.key": value}`` of point ``flat`` (C order over :attr:`shape`)."""
@@ -119,8 +156,41 @@ class Sweep:
         return tomli_w.dumps(data)
 
     # ------------------------------------------------------------ points
+    def point_config(self, flat: int):
+        """The :class:`~lubelink.params.Config` of point ``flat`` (not validated: see
+        :meth:`invalid_points_of`), built when needed, so that a large sweep holds no configurations."""
+        by_section = {}
+        for name, value in self.overrides(flat).items():
+            section, key = name.split(".", 1)
+            by_section.setdefault(section, {})[key] = value
+        return replace(self.base_config, **{s: replace(getattr(self.base_config, s), **kv)
+                                            for s, kv in by_section.items()})
+
+    def invalid_points_of(self, progress=None, flats=None) -> dict:
+        """Validate the points (all, or ``flats``) one by one: ``{flat: problems}`` of the invalid ones.
+
+        Nothing else is kept, so memory stays bounded by the invalid points; ``progress`` is called
+        with the count of points checked (about every thousand points and at the end).
+        """
+        from ..config import validate
+
+        invalid = {}
+        flats = range(self.size) if flats is None else flats
+        n = 0
+        for n, flat in enumerate(flats, 1):
+            try:
+                validate(self.point_config(flat))
+            except ConfigError as exc:
+                invalid[int(flat)] = exc.problems
+            if progress is not None and n % 1024 == 0:
+                progress(n)
+        if progress is not None:
+            progress(n)
+        return invalid
+
     def point_configs(self, progress=None):
-        """Validate every point: ``(configs, invalid)`` keyed by flat index.
+        """Validate every point: ``(configs, invalid)`` keyed by flat index (small sweeps: every
+        configuration is kept; :func:`run_sweep` uses :meth:`invalid_points_of` instead).
 
         ``configs[flat]`` is the validated :class:`~lubelink.params.Config`;
         ``invalid[flat]`` the list of problems of a point that fails
@@ -131,20 +201,60 @@ class Sweep:
 
         configs, invalid = {}, {}
         for flat in range(self.size):
-            over = self.overrides(flat)
-            by_section = {}
-            for name, value in over.items():
-                section, key = name.split(".", 1)
-                by_section.setdefault(section, {})[key] = value
-            cfg = replace(self.base_config, **{s: replace(getattr(self.base_config, s), **kv)
-                                               for s, kv in by_section.items()})
             try:
-                configs[flat] = validate(cfg)
+                configs[flat] = validate(self.point_config(flat))
             except ConfigError as exc:
                 invalid[flat] = exc.problems
             if progress is not None:
                 progress(flat + 1)
         return configs, invalid
+
+    # ------------------------------------------------------------ cost
+    def estimate(self, workers=None, sample=64):
+        """:class:`SweepEstimate`: memory, store size and time of the whole sweep, up front.
+
+        Time: the up-front cost of a run (:func:`lubelink.estimate.run_cost`) plus the results
+        assembly and the per-point overhead, averaged over up to ``sample`` valid points spread
+        over the grid, times the number of points, over ``workers`` processes (None: unknown, a
+        remote cluster; the time is then CPU time). Memory: the
+        results as the client holds them when the sweep ends (:func:`load_sweep`), with the
+        strings as Python objects; the store: the same values on disk before compression.
+        """
+        from ..config import validate
+        from ..estimate import run_cost
+        from .layout import _time_axis
+        from .schema import QUANTITIES, SERIES
+
+        size = self.size
+        picks = sorted({int(i) for i in np.linspace(0, size - 1, min(size, sample))}) if 0 < size < 2**62 else []
+        seconds = []
+        for flat in picks:
+            try:
+                cfg = validate(self.point_config(flat))
+            except ConfigError:
+                continue
+            n_out = cfg.solver.t_end / cfg.solver.output_step + 1
+            assembly = n_out * (cfg.output.x_points * cfg.beam.modes
+                                + cfg.output.pad_points * cfg.film.sides * cfg.film.enabled) * ASSEMBLY_PER_VALUE
+            seconds.append(run_cost(cfg).seconds + assembly + POINT_OVERHEAD)
+        if not seconds and self.base_config is not None:  # no valid point in the sample: the base
+            seconds.append(run_cost(self.base_config).seconds + POINT_OVERHEAD)
+        per_point = float(np.mean(seconds)) if seconds else POINT_OVERHEAD
+        values = 0
+        for name in self.quantities:
+            values += self.max_impacts if QUANTITIES[name][2] == "impacts" else 1
+        per_point_bytes = 1 + 8 + 8 * values + 2 * (8 + STRING_BYTES)  # done, wall_time, quantities, status/message
+        store_per_point = 1 + 8 + 8 * values + 2 * 16
+        if self.time_series:
+            cfg = self.base_config
+            n_time = len(_time_axis(cfg))
+            extent = {"mode": cfg.beam.modes, "x": cfg.output.x_points, "X": cfg.output.pad_points, None: 1}
+            series = sum(8 * n_time * extent[SERIES[name][0]] for name in self.time_series)
+            per_point_bytes += series
+            store_per_point += series
+        return SweepEstimate(points=size, memory_bytes=size * per_point_bytes + MEMORY_BASE,
+                             store_bytes=size * store_per_point, cpu_seconds=size * per_point,
+                             wall_seconds=size * per_point / (workers or 1), workers=workers or None)
 
     def invalid_report(self, invalid: dict) -> list:
         """One line per distinct problem, naming the first point it occurs at and how many more."""

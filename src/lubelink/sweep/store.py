@@ -125,45 +125,72 @@ class _Store:
     def __init__(self, path: Path, sp: Sweep):
         self.path, self.sweep = Path(path), sp
         self.group = None
+        self.created = False  # by this writer (removed again if nothing gets stored: run_sweep)
         self._arrays = {}
         self._lock_fd = self._journal_fd = None
         self._last_compact = time.monotonic()
 
     @classmethod
     def open(cls, path, sp: Sweep, overwrite=False) -> "_Store":
+        """Open the store at ``path`` for writing, creating it if there is none.
+
+        A new store is built under a temporary name with its lock already held, then renamed into
+        place without replacing anything: of two sweeps that create the same store at once, one
+        creates it and the other finds it locked ("being written by another sweep").
+        """
         st = cls(path, sp)
         try:
-            if st.path.exists():
+            if not os.path.lexists(st.path):
+                try:
+                    st._create()
+                except FileExistsError:
+                    pass  # another sweep created it meanwhile: open it as an existing store
+            if not st.created:
                 attrs = _store_attrs(st.path)
                 if attrs is None or "lubelink_sweep_format" not in attrs:  # never touch a foreign folder
                     raise SweepError(f"{st.path} exists and is not a lubelink sweep store; choose another output")
-                st._lock()
+                st._lock(st.path)
                 if _check_attrs(st.path, _store_attrs(st.path), sp, overwrite):
                     st._unlock()
                     shutil.rmtree(st.path)
-            if not st.path.exists():
-                st._create()
-                st._lock()
+                    try:
+                        st._create()
+                    except FileExistsError:
+                        raise SweepError(f"{st.path} was created by another sweep while this one replaced "
+                                         "it; run again") from None
             import zarr
 
             st.group = zarr.open_group(str(st.path), mode="r+")
             for tmp in st.path.rglob("*.partial"):  # temporaries of a chunk write cut by a kill
                 tmp.unlink(missing_ok=True)
-            st._journal_fd = os.open(st.path / JOURNAL, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+            st._journal_fd = os.open(st.path / JOURNAL, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
             st.compact()  # fold what a killed run left in the journal
+        except OSError as exc:
+            st.close_files()
+            raise SweepError(f"{st.path}: cannot write the store ({exc.strerror or exc})") from None
         except BaseException:
             st.close_files()
             raise
         return st
 
     def _create(self):
-        """Build the empty store under a temporary name and rename it into place (atomic,
-        :func:`lubelink._files.atomic_path`)."""
-        parent = self.path.parent
-        if not parent.is_dir():
-            raise SweepError(f"{self.path}: folder {parent} does not exist")
-        with atomic_path(self.path) as tmp:
-            tmp.unlink()  # atomic_path reserves the name with an empty file; a store is a folder
+        """Build the empty store under a temporary name, lock it, and rename it into place without
+        replacing anything (:func:`lubelink._files.atomic_path`); :class:`FileExistsError` if a
+        store appeared there meanwhile."""
+        from .._files import folder_problem
+
+        problem = folder_problem(self.path.parent)
+        if problem:
+            raise SweepError(f"{self.path}: {problem}")
+        try:
+            self._build_and_publish()
+        except BaseException:
+            self._unlock()
+            raise
+        self.created = True
+
+    def _build_and_publish(self):
+        with atomic_path(self.path, overwrite=False, directory=True) as tmp:
             ds, encoding = _template(self.sweep)
             import warnings
 
@@ -177,13 +204,14 @@ class _Store:
                 if not hasattr(var.data, "dask"):
                     g[name][...] = var.values
             (tmp / JOURNAL).touch()
+            self._lock(tmp)  # held from the store's first appearance under its name
 
-    def _lock(self):
+    def _lock(self, folder):
         try:
             import fcntl
         except ImportError:  # Windows: no advisory locks; one writer is the user's responsibility
             return
-        fd = os.open(self.path / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+        fd = os.open(Path(folder) / LOCK, os.O_RDWR | os.O_CREAT, 0o666)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:

@@ -1,0 +1,163 @@
+"""Output files: exclusive atomic publishing, only regular files replaced, stale temporaries removed,
+the umask honoured (issue 15, items 3, 5, 10 and 11)."""
+
+import os
+import stat
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from lubelink import _files
+from lubelink._files import atomic_path, fallback_path, folder_problem, remove_stale_temporaries, target_problem
+
+
+def entries(folder):
+    return sorted(p.name for p in Path(folder).iterdir())
+
+
+# ====================================================================== item 3: exclusive publish
+@pytest.mark.parametrize("renameat2", [True, False], ids=["renameat2", "link-unlink"])
+def test_a_file_that_appears_during_the_write_is_never_replaced(tmp_path, monkeypatch, renameat2):
+    if not renameat2:  # the fallback of systems without RENAME_NOREPLACE: link, then unlink
+        monkeypatch.setattr(_files, "_renameat2_noreplace", lambda src, dst: False)
+    target = tmp_path / "r.nc"
+    with pytest.raises(FileExistsError, match="appeared"):
+        with atomic_path(target, overwrite=False) as tmp:
+            tmp.write_text("mine")
+            target.write_text("theirs")  # another run published meanwhile
+    assert target.read_text() == "theirs"
+    assert entries(tmp_path) == ["r.nc"]  # no temporary left
+
+
+def test_without_a_competitor_the_exclusive_publish_writes(tmp_path):
+    target = tmp_path / "r.nc"
+    with atomic_path(target, overwrite=False) as tmp:
+        tmp.write_text("mine")
+    assert target.read_text() == "mine" and entries(tmp_path) == ["r.nc"]
+
+
+def test_a_folder_is_published_exclusively(tmp_path):
+    target = tmp_path / "s.zarr"
+    with pytest.raises(FileExistsError):
+        with atomic_path(target, overwrite=False, directory=True) as tmp:
+            tmp.mkdir()
+            (tmp / "a").write_text("mine")
+            target.mkdir()
+            (target / "b").write_text("theirs")
+    assert entries(target) == ["b"] and entries(tmp_path) == ["s.zarr"]
+
+
+# ====================================================================== item 5: only regular files
+def special_files(folder):
+    folder = Path(folder)
+    (folder / "dir.nc").mkdir()
+    os.mkfifo(folder / "fifo.nc")
+    out = {"dir.nc": "a folder", "fifo.nc": "a FIFO"}
+    if os.geteuid() == 0:
+        os.mknod(folder / "null.nc", 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+        out["null.nc"] = "a device"
+    return out
+
+
+def test_overwrite_replaces_only_regular_files(tmp_path):
+    for name, kind in special_files(tmp_path).items():
+        assert kind in target_problem(tmp_path / name)
+        with pytest.raises(OSError, match="only a regular file"):
+            with atomic_path(tmp_path / name, overwrite=True) as tmp:
+                tmp.write_text("x")
+    assert stat.S_ISFIFO(os.stat(tmp_path / "fifo.nc").st_mode) and (tmp_path / "dir.nc").is_dir()
+    assert not [n for n in entries(tmp_path) if ".part" in n]
+    (tmp_path / "plain.nc").write_text("old")
+    assert target_problem(tmp_path / "plain.nc") is None
+    with atomic_path(tmp_path / "plain.nc", overwrite=True) as tmp:
+        tmp.write_text("new")
+    assert (tmp_path / "plain.nc").read_text() == "new"
+
+
+def test_unwritable_folders_are_found_before_the_work():
+    assert "cannot create files in folder /proc" in target_problem("/proc/x.nc")
+    assert "does not exist" in target_problem("/nonexistent-dir/x.nc")
+    assert folder_problem("/proc") is not None
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="permission bits do not bind root")
+def test_a_read_only_folder_is_found_before_the_work(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        assert "cannot create files" in target_problem(ro / "x.nc")
+    finally:
+        ro.chmod(0o755)
+
+
+# ====================================================================== item 10: stale temporaries
+def dead_pid():
+    p = subprocess.Popen([sys.executable, "-c", "pass"])
+    p.wait()
+    return p.pid
+
+
+def test_stale_temporaries_of_dead_processes_are_removed_on_the_next_write(tmp_path):
+    target = tmp_path / "r.nc"
+    host = _files._host_tag()
+    dead = tmp_path / f".r.nc.{host}-{dead_pid()}-0123abcd.part.nc"
+    dead.write_bytes(b"x" * 1000)
+    dead_dir = tmp_path / f".r.nc.{host}-{dead_pid()}-0123abce.part.nc"
+    dead_dir.mkdir()
+    live = tmp_path / f".r.nc.{host}-{os.getpid()}-0123abcd.part.nc"  # a write in progress
+    live.write_text("x")
+    other_host = tmp_path / f".r.nc.ffffff-{dead_pid()}-0123abcd.part.nc"  # shared file system
+    other_host.write_text("x")
+    other_target = tmp_path / f".q.nc.{host}-{dead_pid()}-0123abcd.part.nc"
+    other_target.write_text("x")
+    legacy_old = tmp_path / ".r.abc_1234.part.nc"  # mkstemp naming of earlier versions
+    legacy_old.write_text("x")
+    os.utime(legacy_old, (1e9, 1e9))
+    legacy_new = tmp_path / ".r.abc_1235.part.nc"
+    legacy_new.write_text("x")
+    with atomic_path(target) as tmp:
+        tmp.write_text("results")
+    assert not dead.exists() and not dead_dir.exists() and not legacy_old.exists()
+    assert live.exists() and other_host.exists() and other_target.exists() and legacy_new.exists()
+    assert target.read_text() == "results"
+    assert remove_stale_temporaries(target) == []
+
+
+def test_a_sigkilled_write_leaves_a_temporary_that_the_next_write_removes(tmp_path):
+    code = ("import os, signal, sys\n"
+            "from lubelink._files import atomic_path\n"
+            "with atomic_path(sys.argv[1]) as tmp:\n"
+            "    tmp.write_bytes(b'x' * 100000)\n"
+            "    os.kill(os.getpid(), signal.SIGKILL)\n")
+    r = subprocess.run([sys.executable, "-c", code, str(tmp_path / "r.nc")])
+    assert r.returncode == -9
+    assert [n for n in entries(tmp_path) if ".part" in n], "the killed write left no temporary"
+    with atomic_path(tmp_path / "r.nc") as tmp:
+        tmp.write_text("ok")
+    assert entries(tmp_path) == ["r.nc"]
+
+
+# ====================================================================== item 11: the umask
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
+def test_files_and_folders_honour_the_umask(tmp_path, umask):
+    old = os.umask(umask)
+    try:
+        with atomic_path(tmp_path / "f.txt") as tmp:
+            tmp.write_text("x")
+        with atomic_path(tmp_path / "d.zarr", directory=True) as tmp:
+            tmp.mkdir()
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(os.stat(tmp_path / "f.txt").st_mode) == 0o666 & ~umask
+    assert stat.S_IMODE(os.stat(tmp_path / "d.zarr").st_mode) == 0o777 & ~umask
+
+
+def test_fallback_names_are_free_and_beside_the_target(tmp_path):
+    target = tmp_path / "r.nc"
+    other = fallback_path(target)
+    assert other.parent == tmp_path and other.name.startswith("r.unsaved-") and other.suffix == ".nc"
+    assert fallback_path("/proc/r.nc", folders=[tmp_path]).parent == tmp_path
+    assert fallback_path("/proc/r.nc") is None
