@@ -103,7 +103,8 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
     motion, period, periods
         As for :func:`~.orbit.find_periodic` (a user motion keeps its period).
     y0, warmup
-        Initial guess at ``start`` (default rest) and periods of transient before shooting.
+        Initial guess at ``start`` (default rest) and periods of transient before shooting; the
+        first orbit is found by :func:`~.orbit.find_periodic` (with its restarts).
     jacobian : str
         As for :func:`~.orbit.find_periodic`, but ``"finite-difference"`` by default: the
         ``4N`` compiled runs of one period are several times faster than the variational
@@ -124,13 +125,15 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
         ``omega_n``.
     family : Family
     """
+    from .orbit import find_periodic
+
     family = Family(config, parameter, motion=motion, period=period, periods=periods, jacobian=jacobian,
                     samples=samples)
     lam0 = family.value0 if start is None else float(start)
     fmap0 = family(lam0)
-    y = np.zeros(fmap0.n) if y0 is None else np.array(y0, dtype=float).reshape(fmap0.n)
-    if warmup:
-        y = np.array(fmap0.run(y, t_end=warmup * fmap0.period).y[-1])
+    # the first orbit as lubelink.periodic finds it (restarts after transients if need be)
+    y = find_periodic(fmap0.config, motion, period=period, periods=periods, y0=y0, warmup=warmup,
+                      jacobian=jacobian, tol=tol).y0
     summaries = []
 
     def scale_of(y, value):

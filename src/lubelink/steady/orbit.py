@@ -128,15 +128,17 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
     done = 0  # periods of transient so far
     for attempt in range(restarts + 1):
         more = warmup if attempt == 0 else 8 * 2 ** (attempt - 1)
-        if more:
-            y = np.array(pmap.run(y, t_end=more * pmap.period).y[-1])
-            done += more
-        scale = pmap.scale(y)
         try:
+            if more:
+                y = np.array(pmap.run(y, t_end=more * pmap.period).y[-1])
+                done += more
+            scale = pmap.scale(y)
             r = shoot(pmap, y, scale, tol=tol, max_iter=max_iter,
                       what=f"the {pmap.period:.6g} s periodic response")
             break
-        except (ShootingError, MapFailure) as exc:
+        except MapFailure as exc:  # the integration itself ends early: no restart helps
+            raise ShootingError(f"no periodic response: the integration over a period ended early ({exc})") from None
+        except ShootingError as exc:
             if attempt == restarts:
                 raise ShootingError(f"{exc} [{attempt + 1} attempt(s), after {done} periods of transient]") from None
     mu = floquet.multipliers(r.jacobian)

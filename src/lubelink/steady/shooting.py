@@ -158,6 +158,12 @@ def shoot(fmap, y0, scale, *, tol=1e-9, max_iter=30, fd_step=1e-5, min_damping=1
     history = [res]
     iterations = 0
     while res >= tol:
+        if iterations >= 8 and res > 0.5 * history[-8]:
+            raise ShootingError(
+                f"shooting for {what} stagnates: scaled residual {res:.3g} after {iterations} Newton steps, "
+                f"halved less than once in the last 7 (residuals {_history(history)}): the initial state is "
+                "far from the periodic response, or the map is not smooth near it; try warmup periods of "
+                "transient first, or a nearby solution")
         if iterations >= max_iter:
             raise ShootingError(
                 f"shooting for {what} did not converge: scaled residual {res:.3g} after {iterations} Newton "
