@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import floquet
-from .shooting import MapFailure, MapValue, ShootingError, shoot
+from .shooting import MapFailure, MapValue, ShootingError, jacobian_of, shoot
 
 __all__ = ["Point", "Bifurcation", "Branch", "continue_branch"]
 
@@ -41,9 +41,10 @@ class Point:
 
     ``y`` the fixed point, ``parameter`` the value of ``lam``, ``value`` the map there,
     ``jacobian`` ``dP/dy`` (the monodromy matrix) and how it was obtained, ``multipliers`` its
-    eigenvalues, ``tangent`` the unit tangent in scaled variables ``(z, m)``, ``arclength`` the
-    scaled arclength from the first point, ``iterations`` the corrector's Newton steps,
-    ``residual`` the scaled max norm of ``P(y) - y``.
+    eigenvalues, ``tangent`` the unit tangent in scaled variables ``(y / scale, lam / lam_scale)``,
+    ``arclength`` the scaled arclength from the first point, ``iterations`` the corrector's
+    steps, ``residual`` the scaled max norm of ``P(y) - y``, ``scale`` the state scale of the
+    tangent.
     """
 
     parameter: float
@@ -56,6 +57,7 @@ class Point:
     arclength: float
     iterations: int
     residual: float
+    scale: np.ndarray
 
     @property
     def stable(self) -> bool:
@@ -86,7 +88,11 @@ class Branch:
 
 
 class _Stop(Exception):
-    pass
+    """The branch ends before ``lam_end``; the message says why."""
+
+
+class _Land(Exception):
+    """``lam_end`` lies within the next step."""
 
 
 def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0.02, ds_min=1e-5, ds_max=0.1,
@@ -152,7 +158,7 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
             counter["evaluations"] += 1
             return fmap(y, False)
         value = fmap(y, True)
-        J, method, count = _jacobian(fmap, y, value, scale_of_current[0], fd_step)
+        J, method, count = jacobian_of(fmap, y, value, scale_of_current[0], fd_step)
         h = lam_step * max(abs(lam), lam_scale)
         P_lam = (family(lam + h)(y, False).y - value.y) / h
         counter["evaluations"] += 2 + count
@@ -171,7 +177,7 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
     tangent = _tangent(J, P_lam, S, lam_scale, t0)
     last_P_lam = [P_lam]
     points = [Point(lam0, first.y, value, J, method, floquet.multipliers(J), tangent, 0.0, first.iterations,
-                    first.residual)]
+                    first.residual, S)]
     branch = Branch(points, lam_scale=lam_scale)
     if on_point:
         on_point(points[0])
@@ -184,7 +190,7 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
                 raise _Stop(f"max_points = {max_points} reached at {points[-1].parameter:.6g}")
             last = points[-1]
             S = scale_of_current[0]
-            t = last.tangent
+            t = _rescaled(last.tangent, last.scale, S)
             if abs(t[-1]) > 0:
                 ds = min(ds, max_dlam / lam_scale / abs(t[-1]))
             u_last = np.concatenate([last.y / S, [last.parameter / lam_scale]])
@@ -210,7 +216,7 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
             lam = u[-1] * lam_scale
             y = u[:-1] * S
             arc = last.arclength + float(np.linalg.norm(u - u_last))
-            point = Point(lam, y, value, J, method, floquet.multipliers(J), new_t, arc, iterations, res)
+            point = Point(lam, y, value, J, method, floquet.multipliers(J), new_t, arc, iterations, res, S)
             last_P_lam[0] = P_lam
             _detect(branch, point)
             points.append(point)
@@ -236,19 +242,15 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
     return branch
 
 
-class _Land(Exception):
-    pass
-
-
-def _jacobian(fmap, y, value, scale, fd_step):
-    from .shooting import jacobian_of
-
-    return jacobian_of(fmap, y, value, scale, fd_step)
+def _rescaled(t, old, new):
+    """The unit tangent ``t`` of scale ``old`` expressed in scale ``new``."""
+    t = np.concatenate([t[:-1] * old / new, t[-1:]])
+    return t / np.linalg.norm(t)
 
 
 def _scaled(J, P_lam, S, lam_scale):
     """``[G_z  G_m]``: the Jacobian of ``D^-1 G`` in the scaled variables."""
-    n = J.size and J.shape[0]
+    n = J.shape[0]
     Gz = (J - np.eye(n)) * S[None, :] / S[:, None]
     Gm = P_lam * lam_scale / S
     return np.column_stack([Gz, Gm])
@@ -347,10 +349,10 @@ def _land(branch, family, lam_end, tol, fd_step, S, lam_scale, evaluate, counter
         return
     counter["evaluations"] += r.evaluations
     value, J, method, P_lam = evaluate(r.y, lam_end, fmap)
-    tangent = _tangent(J, P_lam, S, lam_scale, last.tangent)
+    tangent = _tangent(J, P_lam, S, lam_scale, _rescaled(last.tangent, last.scale, S))
     u_last = np.concatenate([last.y / S, [last.parameter / lam_scale]])
     u = np.concatenate([r.y / S, [lam_end / lam_scale]])
     point = Point(lam_end, r.y, value, J, method, floquet.multipliers(J), tangent,
-                  last.arclength + float(np.linalg.norm(u - u_last)), r.iterations, r.residual)
+                  last.arclength + float(np.linalg.norm(u - u_last)), r.iterations, r.residual, S)
     _detect(branch, point)
     branch.points.append(point)
