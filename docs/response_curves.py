@@ -1,9 +1,9 @@
 """Draw the figures of docs/periodic.md: response curves over the crank speed, and a period doubling.
 
-    python docs/response_curves.py [OUTDIR]      # default docs/figures; about 3 min on 2 cores
+    python docs/response_curves.py [OUTDIR] [--keep]      # default docs/figures; about 1.5 min on 2 cores
 
-Each curve is a branch of :func:`lubelink.continuation` (the branch files are written beside the
-figures as ``response-*.nc``); the crosses are the peak midpoint deflection over the last turn of
+Each curve is a branch of :func:`lubelink.continuation` (with ``--keep``, the branch files are
+written beside the figures as ``response-*.nc``); the crosses are the peak midpoint deflection over the last turn of
 long transients from rest at a few speeds, computed independently with :func:`lubelink.simulate`.
 """
 
@@ -45,16 +45,25 @@ def quasi_static_peak(config, speed):
     return float(np.max(np.abs(2 / (L * beta) * (2 * k["A_O2"] + k["alpha"] * L)))) / w1**2
 
 
-def branch(name, scenario, settings, out):
+def _save(fig, path):
+    """Write a figure atomically (the project's writer)."""
+    from lubelink.results import atomic_path
+
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+
+
+def branch(name, scenario, settings, out, keep=False):
     began = time.perf_counter()
     ds = lubelink.continuation(scenario, settings, start=SPEEDS[0], stop=SPEEDS[1])
-    save(ds, out / f"response-{name}.nc", overwrite=True)
+    if keep:
+        save(ds, out / f"response-{name}.nc", overwrite=True)
     print(f"{name}: {ds.point.size} orbits in {time.perf_counter() - began:.1f} s, {ds.attrs['status']} "
           f"({ds.attrs['message']}); bifurcations: {ds.attrs['bifurcations']}")
     return ds
 
 
-def main(out="docs/figures"):
+def main(out="docs/figures", keep=False):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -63,9 +72,9 @@ def main(out="docs/figures"):
 
     out = Path(out)
     dry_settings = {"beam.damping_ratio": ZETA}
-    dry = branch("dry", "paper-dry", dry_settings, out)
-    film = branch("film", "paper", dry_settings, out)
-    squeeze = branch("squeeze", "paper", {**dry_settings, "film.model": "wedge+squeeze"}, out)
+    dry = branch("dry", "paper-dry", dry_settings, out, keep)
+    film = branch("film", "paper", dry_settings, out, keep)
+    squeeze = branch("squeeze", "paper", {**dry_settings, "film.model": "wedge+squeeze"}, out, keep)
 
     # --- the dry link: response curve, transients, and the dynamic amplification --------------------
     speeds = [10.0, 25.0, 40.0, 49.4, 58.0]
@@ -87,7 +96,7 @@ def main(out="docs/figures"):
             ax.set_xlim(SPEEDS)
             _mark_resonances(ax, resonances(dry))
         fig.suptitle("Dry link, 1 mode: periodic response against crank speed (resonances omega_1/k dotted)")
-        fig.savefig(out / "response-dry.png", dpi=110)
+        _save(fig, out / "response-dry.png")
 
     # --- with the film ------------------------------------------------------------------------------
     film_speeds = [20.0, 36.0, 38.0, 45.0]
@@ -95,7 +104,7 @@ def main(out="docs/figures"):
     fig = figure_branch({"dry": dry, "wedge film (paper)": film, "wedge + squeeze film": squeeze},
                         transients={"wedge film: last turn of a transient": (film_speeds, [p for p, _ in film_peaks])},
                         title=f"Periodic response against crank speed, zeta = {ZETA}: dry, paper's film, full film")
-    fig.savefig(out / "response-film.png", dpi=110)
+    _save(fig, out / "response-film.png")
     print("film transients:", ", ".join(f"{w:g} rad/s {p * 1e3:.4f} mm ({s})" for w, (p, s) in
                                         zip(film_speeds, film_peaks)))
 
@@ -122,10 +131,11 @@ def main(out="docs/figures"):
         ax.set_ylabel("u2_mid [mm]")
         ax.legend(fontsize=8, loc="lower left")
         ax.set_title(f"Paper's film, zeta = {ZETA}, omega0 = {speed:g} rad/s: the steady state takes two crank turns")
-        fig.savefig(out / "period-doubling.png", dpi=110)
+        _save(fig, out / "period-doubling.png")
     print(f"period doubling at {speed} rad/s: period-1 multipliers {one.floquet_modulus.values}, "
           f"period-2 {two.floquet_modulus.values}")
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:])
+    args = [a for a in sys.argv[1:] if a != "--keep"]
+    main(*args[:1], keep="--keep" in sys.argv[1:])
