@@ -21,6 +21,8 @@ module             job
 ``paper``          the paper's figures, Fig. 9 calibration, animation
 ``plots``          plotting functions on result Datasets
 ``sweep``          parameter sweeps on Dask, resumable stores
+``steady``         periodic steady state: shooting, Floquet multipliers,
+                   continuation (response curves)
 =================  ===========================================================
 """
 
@@ -28,6 +30,7 @@ from .config import ConfigError, SCENARIOS, load as load_config, resolve as reso
 from .params import Beam, Collar, Config, Contact, Film, Mechanism, Output, Solver
 from .results import ResultsFileError, load, save
 from .simulate import simulate
+from .steady import ShootingError, continuation, periodic
 from .sweep import load_sweep, run_sweep
 
 try:
@@ -39,6 +42,9 @@ except Exception:  # not installed (running from a source tree)
 
 __all__ = [
     "simulate",
+    "periodic",
+    "continuation",
+    "ShootingError",
     "run_sweep",
     "load_sweep",
     "load",

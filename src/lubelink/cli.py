@@ -27,7 +27,7 @@ EPILOG = """examples:
 #: Modules that add subcommands: each has ``register_cli(subparsers, add_config_args)``, which adds
 #: its parsers with ``set_defaults(handler=function(args) -> exit status)``; they import heavy
 #: libraries (Matplotlib, Dask) only inside the handlers.
-EXTENSIONS = ("lubelink.paper", "lubelink.sweep")
+EXTENSIONS = ("lubelink.paper", "lubelink.sweep", "lubelink.steady")
 
 
 def _add_config_args(p):

@@ -74,7 +74,7 @@ def method_name(config):
     return "DOP853" if config.beam.modes == 1 else "exponential"
 
 
-def run(config, motion=None, progress=None, model=None) -> Run:
+def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     """Integrate a validated configuration, handling film breakdown as it occurs.
 
     Parameters
@@ -87,6 +87,9 @@ def run(config, motion=None, progress=None, model=None) -> Run:
         ``progress(t)`` as the integration advances.
     model : Model, optional
         An assembled model of ``config`` (default: :func:`~lubelink.model.build_model`).
+    y0 : array_like, shape ``(2N,)``, optional
+        State ``[q, q_dot]`` at t = 0 [m, m/s] (default: zero, the paper's). It must not lie
+        inside a contact (thinnest film below ``contact.min_film``).
 
     Returns
     -------
@@ -106,7 +109,8 @@ def run(config, motion=None, progress=None, model=None) -> Run:
     out_method = method_name(config)
     method = integrate.method(out_method)
     options = {"omega": model.omega_n, "zeta": config.beam.damping_ratio}
-    t, y = 0.0, model.initial_state()
+    t = 0.0
+    y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(2 * model.modes)
     ts, ys = [t_eval[:1]], [y[None, :]]
     out = Run(model=model, t=None, y=None, method=out_method)
     logic = ContactLogic(model)

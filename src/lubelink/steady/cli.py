@@ -1,0 +1,235 @@
+"""The ``periodic``, ``continue`` and ``plot-branch`` subcommands: :func:`register_cli` and their handlers.
+
+``lubelink.cli`` imports this package as an extension and calls
+``register_cli(subparsers, add_config_args)``. Exit status: 0 success; 1 no periodic response
+found (``periodic``, nothing written) or a branch that stopped before ``--to`` (``continue``, the
+points found are written); 2 invalid input. Matplotlib is imported inside the handlers.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..errors import UsageError
+from .problem import JACOBIANS
+
+__all__ = ["register_cli"]
+
+
+def register_cli(subparsers, add_config_args):
+    """Add the ``periodic``, ``continue`` and ``plot-branch`` subcommands."""
+    p = subparsers.add_parser(
+        "periodic", help="find the periodic steady state by shooting, with its Floquet multipliers",
+        description="Find the response with the period of the crank (2 pi/|omega0|) by shooting: Newton's "
+                    "method on y(T; y0) = y0, the monodromy matrix from the variational equations (finite "
+                    "differences when an impact occurs in the period). Writes one period of the usual "
+                    "results plus floquet_modulus and floquet_argument. See docs/periodic.md.")
+    add_config_args(p)
+    p.add_argument("-o", "--output", metavar="FILE.nc",
+                   help="results file (default: <scenario or config name>-periodic.nc here)")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE.nc if it exists")
+    p.add_argument("--periods", type=int, default=1, metavar="K",
+                   help="crank turns in the period (2: period-doubled responses; default 1)")
+    p.add_argument("--warmup", type=int, default=0, metavar="N",
+                   help="periods of transient from rest before Newton's method (default 0)")
+    _common(p, "auto")
+    p.set_defaults(handler=_cmd_periodic)
+
+    p = subparsers.add_parser(
+        "continue", help="response curve: follow the periodic response over a parameter",
+        description="Pseudo-arclength continuation of the periodic response as PARAMETER (default the crank "
+                    "speed) goes from its value (or --from) to --to, with the Floquet multipliers of every "
+                    "orbit; folds and bifurcations (a multiplier leaving the unit circle through +1, -1 or as "
+                    "a complex pair) are reported. Writes the branch (NetCDF) and, with --figure, the peak "
+                    "deflection against the parameter with stability marked. See docs/periodic.md.")
+    add_config_args(p)
+    p.add_argument("--parameter", default="mechanism.crank_speed", metavar="SECTION.KEY",
+                   help="the real parameter to vary (default mechanism.crank_speed; the period follows it)")
+    p.add_argument("--from", dest="start", type=float, metavar="VALUE", help="start (default: the configuration's value)")
+    p.add_argument("--to", dest="stop", type=float, required=True, metavar="VALUE", help="end of the branch")
+    p.add_argument("--max-step", type=float, metavar="DELTA",
+                   help="largest change of the parameter between two orbits (default |to - from|/100)")
+    p.add_argument("--max-points", type=int, default=2000, metavar="N", help="most orbits (default 2000)")
+    p.add_argument("--warmup", type=int, default=0, metavar="N",
+                   help="periods of transient from rest before the first shooting (default 0)")
+    p.add_argument("-o", "--output", metavar="FILE.nc",
+                   help="branch file (default: <scenario or config name>-branch.nc here)")
+    p.add_argument("--figure", metavar="FILE.png", help="also draw the response curve")
+    p.add_argument("--overwrite", action="store_true", help="replace existing files")
+    _common(p, "finite-difference")
+    p.set_defaults(handler=_cmd_continue)
+
+    p = subparsers.add_parser(
+        "plot-branch", help="draw response curves from branch files",
+        description="Peak midpoint deflection against the parameter for one or more branch files of "
+                    "'lubelink continue', stable solid, unstable dashed, resonances omega_1/k marked.")
+    p.add_argument("branches", nargs="+", metavar="FILE.nc", help="branch files")
+    p.add_argument("-o", "--output", required=True, metavar="FILE.png", help="image file")
+    p.add_argument("--linear", action="store_true", help="linear deflection axis (default logarithmic)")
+    p.add_argument("--title", help="figure title")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE.png if it exists")
+    p.set_defaults(handler=_cmd_plot_branch)
+
+
+def _common(p, default):
+    p.add_argument("--jacobian", choices=JACOBIANS, default=default,
+                   help="monodromy matrix: 'auto' (variational equations when no impact occurs in the period, "
+                        f"finite differences otherwise), or always one of them (default {default})")
+    p.add_argument("--tol", type=float, default=1e-9, help="scaled residual of Newton's method (default 1e-9)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no summary")
+
+
+def _target(args, suffix, option="--output", given=None, source=None):
+    path = Path(given) if given else Path(f"{Path(str(source)).stem}{suffix}")
+    if path.exists() and not args.overwrite:
+        raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
+    if not path.parent.is_dir():
+        raise UsageError(f"{option} {path}: folder {path.parent} does not exist")
+    return path
+
+
+def _table(rows):
+    width = max(len(k) for k, _ in rows)
+    return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
+
+
+def _multipliers(mu):
+    import numpy as np
+
+    parts = []
+    for m in mu[:6]:
+        parts.append(f"{abs(m):.6g}" + (f" (arg {np.angle(m):+.4g})" if abs(m.imag) > 1e-12 * abs(m) else
+                                          " (real, negative)" if m.real < 0 else ""))
+    return ", ".join(parts) + (" ..." if len(mu) > 6 else "")
+
+
+def _cmd_periodic(args):
+    import time
+
+    import numpy as np
+
+    from ..cli import resolve_args
+    from ..results import ResultsFileError, write
+    from .orbit import find_periodic, orbit_results
+    from .shooting import ShootingError
+
+    began = time.perf_counter()
+    source, config = resolve_args(args)
+    if args.periods < 1 or args.warmup < 0:
+        raise UsageError("--periods must be >= 1 and --warmup >= 0")
+    path = _target(args, "-periodic.nc", given=args.output, source=source)
+    try:
+        orbit = find_periodic(config, periods=args.periods, warmup=args.warmup, jacobian=args.jacobian, tol=args.tol)
+    except ShootingError as exc:
+        print(f"lubelink: {exc}", file=sys.stderr)
+        return 1
+    r = orbit_results(orbit)
+    try:
+        write(r, path, overwrite=args.overwrite)
+    except ResultsFileError as exc:
+        raise UsageError(str(exc)) from None
+    if not args.quiet:
+        a = r.attrs
+        u = np.abs(r["u2_mid"])
+        i = int(np.argmax(u))
+        stable = ("stable" if orbit.stable else
+                  "not asymptotically stable (a multiplier on the unit circle)" if abs(a["floquet_max_modulus"] - 1) < 1e-6
+                  else "unstable")
+        rows = [("source", str(source)),
+                ("period", f"{orbit.period:.6g} s" + (f" ({args.periods} crank turns)" if args.periods > 1 else "")),
+                ("newton", f"{orbit.iterations} step(s) after {orbit.warmup} period(s) of transient; residual "
+                           f"{a['residual']:.2g} (scaled), |q(T) - q(0)| = {a['residual_q']:.2g} m"),
+                ("monodromy", f"{orbit.jacobian}, {orbit.evaluations} period(s) integrated"),
+                ("floquet", f"|multipliers| {_multipliers(orbit.multipliers)}: {stable}"),
+                ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(r['time'][i]):.4f} s")]
+        if "film_min" in r:
+            rows.append(("thinnest film", f"{1e3 * float(np.min(r['film_min'])):.4f} mm"))
+        rows.append(("impacts", f"{a['impact_count']} in the period"))
+        rows.append(("wall time", f"{time.perf_counter() - began:.3f} s"))
+        rows.append(("wrote", str(path)))
+        print(_table(rows))
+    return 0
+
+
+def _cmd_continue(args):
+    import time
+
+    from ..cli import resolve_args
+    from ..results import ResultsFileError, write
+    from .branch import branch_results, find_branch
+    from .shooting import MapFailure, ShootingError
+
+    began = time.perf_counter()
+    source, config = resolve_args(args)
+    path = _target(args, "-branch.nc", given=args.output, source=source)
+    figure = _target(args, "", "--figure", given=args.figure) if args.figure else None
+    if args.max_step is not None and not args.max_step > 0:
+        raise UsageError(f"--max-step {args.max_step}: must be > 0")
+    try:
+        branch, summaries, family = find_branch(
+            config, args.stop, args.parameter, start=args.start, warmup=args.warmup, jacobian=args.jacobian,
+            max_parameter_step=args.max_step, max_points=args.max_points, tol=args.tol)
+    except (ShootingError, MapFailure) as exc:
+        print(f"lubelink: no periodic response at the start: {exc}", file=sys.stderr)
+        return 1
+    r = branch_results(branch, summaries, family)
+    try:
+        write(r, path, overwrite=args.overwrite)
+    except ResultsFileError as exc:
+        raise UsageError(str(exc)) from None
+    if figure is not None:
+        _save_figure(_dataset(r), figure, title=f"{source}: periodic response against {args.parameter}")
+    if not args.quiet:
+        pts = branch.points
+        stable = sum(p.stable for p in pts)
+        rows = [("source", str(source)),
+                ("branch", f"{len(pts)} periodic responses, {args.parameter} from {pts[0].parameter:.6g} to "
+                           f"{pts[-1].parameter:.6g}; {stable} stable"),
+                ("status", branch.status + ("" if branch.status == "complete" else f": {branch.message}")),
+                ("bifurcations", r.attrs["bifurcations"]),
+                ("monodromy", r.attrs["jacobian"]),
+                ("wall time", f"{time.perf_counter() - began:.2f} s, {branch.evaluations} periods integrated"),
+                ("wrote", str(path) + (f", {figure}" if figure else ""))]
+        print(_table(rows))
+    return 0 if branch.status == "complete" else 1
+
+
+def _dataset(r):
+    import xarray as xr
+
+    return xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
+
+
+def _save_figure(branches, path, title=None, log=True):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .._files import atomic_path
+    from .plot import figure_branch
+
+    fig = figure_branch(branches, title=title, log=log)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=130, format=path.suffix.lstrip(".").lower() or "png")
+
+
+def _cmd_plot_branch(args):
+    import xarray as xr
+
+    out = _target(args, "", given=args.output)
+    branches = {}
+    for name in args.branches:
+        p = Path(name)
+        if not p.is_file():
+            raise UsageError(f"FILE.nc = {name!r}: no such branch file")
+        try:
+            ds = xr.load_dataset(p, engine="netcdf4")
+        except Exception as exc:  # the backend raises many types for a foreign file
+            raise UsageError(f"{name}: not a readable NetCDF file ({exc})") from None
+        if "max_modulus" not in ds or "parameter" not in ds:
+            raise UsageError(f"{name}: not a branch file of 'lubelink continue'")
+        branches[p.stem] = ds
+    _save_figure(branches if len(branches) > 1 else next(iter(branches.values())), out, title=args.title,
+                 log=not args.linear)
+    print(f"wrote {out}")
+    return 0

@@ -1,0 +1,137 @@
+"""Continuation of periodic responses: folds and Floquet crossings on maps with known answers, and
+lubelink's response curves against shooting and long transients.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import lubelink
+from lubelink.cli import main
+from lubelink.config import resolve
+from lubelink.steady import continuation, find_periodic
+from lubelink.steady.arclength import continue_branch
+from lubelink.steady.shooting import MapValue
+
+
+# ----------------------------------------------------------------------------- maps with known branches
+def family_of(P, dP, exact_jacobian):
+    def family(lam):
+        def fmap(y, jacobian=False):
+            return MapValue(P(y, lam), dP(y, lam) if (jacobian and exact_jacobian) else None)
+
+        return fmap
+
+    return family
+
+
+def ones(y, value):
+    return np.ones_like(y)
+
+
+@pytest.mark.parametrize("exact_jacobian", [True, False])
+def test_fold_of_a_quadratic_branch(exact_jacobian):
+    # fixed points y^2 = 1 - lam: a fold at lam = 1; multiplier 1 - y, stable for y > 0
+    family = family_of(lambda y, lam: y - 0.5 * (y**2 + lam - 1), lambda y, lam: np.array([[1 - y[0]]]),
+                       exact_jacobian)
+    branch = continue_branch(family, np.array([0.9]), 0.0, 2.0, ones, ds=0.05, ds_max=0.1)
+    assert branch.status == "stopped" and "turned back past the start" in branch.message
+    lam = np.array([p.parameter for p in branch.points])
+    y = np.array([p.y[0] for p in branch.points])
+    np.testing.assert_allclose(y**2, 1 - lam, atol=1e-8)
+    assert y[0] > 0 > y[-1]
+    assert all(p.stable == (p.y[0] > 1e-6) for p in branch.points if abs(p.y[0]) > 1e-3)
+    kinds = [b.kind for b in branch.bifurcations]
+    assert kinds == ["fold"]
+    assert branch.bifurcations[0].parameter == pytest.approx(1.0, abs=1e-3)
+
+
+def test_period_doubling_and_neimark_sacker_crossings():
+    # y = 0 for every lam; multiplier -lam (flip at lam = 1)
+    flip = family_of(lambda y, lam: -lam * y + y**3, lambda y, lam: np.array([[-lam + 3 * y[0] ** 2]]), True)
+    branch = continue_branch(flip, np.array([0.01]), 0.5, 1.5, ones)
+    assert branch.status == "complete" and branch.points[-1].parameter == 1.5
+    (b,) = branch.bifurcations
+    assert b.kind == "period doubling (-1)" and b.parameter == pytest.approx(1.0, abs=1e-6)
+    # a rotation by 1 rad scaled by lam: a complex pair leaves the circle at lam = 1
+    c, s = math.cos(1.0), math.sin(1.0)
+    R = np.array([[c, -s], [s, c]])
+    torus = family_of(lambda y, lam: lam * R @ y, lambda y, lam: lam * R, True)
+    branch = continue_branch(torus, np.array([0.0, 0.0]), 0.8, 1.3, ones)
+    (b,) = branch.bifurcations
+    assert b.kind == "Neimark-Sacker (complex pair)" and b.parameter == pytest.approx(1.0, abs=1e-6)
+    assert abs(np.angle(b.multiplier)) == pytest.approx(1.0, abs=1e-6)
+
+
+# ----------------------------------------------------------------------------- lubelink's response curves
+def test_continuation_passes_a_resonance_and_comes_back_to_the_same_branch():
+    settings = {"beam.damping_ratio": 0.02}
+    w1 = 148.20524632103607  # omega_1 of the paper's rod (MODEL.md 6a); omega_1/3 = 49.40 rad/s
+    up = continuation("paper-dry", settings, start=46.0, stop=53.0)
+    down = continuation("paper-dry", settings, start=53.0, stop=46.0, y0=np.r_[up.q0.values[-1], up.q_dot0.values[-1]])
+    for ds in (up, down):
+        assert ds.attrs["status"] == "complete" and ds.bifurcation.size == 0 and ds.stable.all()
+        # the resonance is resolved: the peak deflection rises fastest within its half-width
+        # (zeta omega_1 / 3 ~ 1 rad/s) of omega_1/3, and many orbits lie there
+        x, y = ds.parameter.values, ds.peak_u2_mid.values
+        order = np.argsort(x)
+        slope = np.diff(y[order]) / np.diff(x[order])
+        assert abs(x[order][np.argmax(slope)] - w1 / 3) < 1.0
+        assert np.sum(np.abs(x - w1 / 3) < 1.0) >= 8
+    # the same branch both ways: end points, and every orbit of the way back against the way up
+    np.testing.assert_allclose(down.q0.values[-1], up.q0.values[0], rtol=1e-7)
+    np.testing.assert_allclose(down.q_dot0.values[-1], up.q_dot0.values[0], rtol=1e-7)
+    xu, order = up.parameter.values, np.argsort(up.parameter.values)
+    interpolated = np.interp(down.parameter.values, xu[order], up.peak_u2_mid.values[order])
+    np.testing.assert_allclose(down.peak_u2_mid.values, interpolated, rtol=5e-3)  # linear interpolation
+    for i in (len(down.point) // 3, 2 * len(down.point) // 3):  # and exactly against shooting there
+        orbit = find_periodic(resolve("paper-dry", {**settings, "mechanism.crank_speed": float(down.parameter[i])}))
+        np.testing.assert_allclose(orbit.y0, np.r_[down.q0.values[i], down.q_dot0.values[i]], rtol=1e-7,
+                                   atol=1e-12)
+
+
+def test_response_curve_agrees_with_long_transients_and_its_instability_is_real():
+    # the paper's wedge film with 1 % damping: stable up to ~37.6 rad/s, then a multiplier leaves
+    # through -1 (period doubling) and the link settles on a response of two crank turns
+    settings = {"beam.damping_ratio": 0.01}
+    ds = continuation("paper", settings, start=36.0, stop=38.0)
+    assert ds.attrs["status"] == "complete"
+    assert ds.bifurcation.size == 1 and int(ds.bifurcation_type[0]) == 2  # period doubling (-1)
+    assert 37.2 < float(ds.bifurcation_parameter[0]) < 37.9
+    assert ds.stable.values[0] == 1 and ds.stable.values[-1] == 0
+    for i, stable in ((0, True), (-1, False)):
+        speed = float(ds.parameter[i])
+        T = 2 * math.pi / speed
+        run = lubelink.simulate("paper", {**settings, "mechanism.crank_speed": speed, "solver.t_end": 60 * T,
+                                          "solver.output_step": T / 10, "solver.rtol": 1e-10,
+                                          "solver.atol": 1e-13})
+        late = np.c_[run.q.values[-21::10, 0], run.q_dot.values[-21::10, 0]]  # at 58 T, 59 T, 60 T
+        orbit = np.r_[ds.q0.values[i], ds.q_dot0.values[i]]
+        if stable:  # exp(-zeta omega_1 58 T) ~ 1e-6 of the start-up vibration: well within 0.1 um
+            np.testing.assert_allclose(late, np.tile(orbit, (3, 1)), rtol=0, atol=1e-7)
+        else:  # not the unstable orbit: a period-2 response, which shooting over two turns finds
+            assert np.max(np.abs(late[1] - late[0])) > 1e-5
+            np.testing.assert_allclose(late[2], late[0], rtol=0, atol=1e-7)
+            two = find_periodic(resolve("paper", {**settings, "mechanism.crank_speed": speed}), periods=2,
+                                y0=late[0])
+            assert two.stable
+            np.testing.assert_allclose(two.y0, late[2], rtol=0, atol=1e-7)
+
+
+def test_cli_continue_writes_the_branch_and_its_figure(tmp_path, capsys):
+    out, png = tmp_path / "b.nc", tmp_path / "b.png"
+    code = main(["continue", "--scenario", "paper-dry", "--set", "beam.damping_ratio=0.05", "--from", "30",
+                 "--to", "31", "-o", str(out), "--figure", str(png)])
+    assert code == 0 and png.stat().st_size > 10_000
+    assert "complete" in capsys.readouterr().out
+    import xarray as xr
+
+    ds = xr.load_dataset(out)
+    assert ds.parameter.values[0] == 30 and ds.parameter.values[-1] == 31
+    assert ds.parameter.attrs["units"] == "rad/s" and ds.stable.all()
+    assert main(["plot-branch", str(out), "-o", str(tmp_path / "c.png")]) == 0
+    assert main(["continue", "--scenario", "paper-dry", "--to", "31", "-o", str(out)]) == 2  # exists
+    assert main(["continue", "--scenario", "paper-dry", "--parameter", "beam.modez", "--to", "2",
+                 "-o", str(tmp_path / "d.nc")]) == 2
+    assert "did you mean 'beam.modes'" in capsys.readouterr().err
