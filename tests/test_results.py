@@ -80,3 +80,15 @@ def test_save_refuses_other_suffixes_and_special_files(ds, tmp_path):
         with pytest.raises(ResultsFileError, match="only a regular file"):
             lubelink.save(ds, tmp_path / name, overwrite=True)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nc", "p.nc"]
+
+
+def test_collect_computes_only_the_variables_asked_for():
+    from lubelink.results import collect
+    from lubelink.simulate import run
+
+    r = run(lubelink.config.resolve("paper", {"solver.t_end": 0.05}))
+    full, lean = collect(r), collect(r, variables={"u2_mid", "film_min"})
+    assert {"u2", "pressure", "pressure_lower", "film_force"}.isdisjoint(lean.data_vars)
+    for name in ("u2_mid", "film_min", "q", "impact_time"):
+        np.testing.assert_array_equal(lean[name], full[name])
+    assert list(lean.data_vars) == [n for n in full.data_vars if n in lean.data_vars]  # same order

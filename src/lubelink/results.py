@@ -130,12 +130,18 @@ def to_dataset(result):
     return xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
 
 
-def collect(result) -> Results:
-    """Sample a :class:`~lubelink.simulate.Run` into :class:`Results`: the variables of :data:`VARIABLES`."""
+def collect(result, variables=None) -> Results:
+    """Sample a :class:`~lubelink.simulate.Run` into :class:`Results`: the variables of :data:`VARIABLES`.
+
+    ``variables``: names to compute (default all); the coordinates, ``q``, ``q_dot``, ``x_star``,
+    ``V_r``, ``omega_n`` and the impacts always come (they cost nothing). A sweep point asks only
+    for what it summarises and stores.
+    """
     from . import beam, film
     from .config import to_toml
     from .model import thinnest_many
 
+    want = VARIABLES.keys() if variables is None else set(variables)
     model = result.model
     cfg = model.config
     p = model.params
@@ -152,15 +158,17 @@ def collect(result) -> Results:
     data = {
         "q": _entry("q", q),
         "q_dot": _entry("q_dot", q_dot),
-        "u2": _entry("u2", beam.deflection(q, x, L)),
-        "u2_mid": _entry("u2_mid", beam.deflection(q, np.array([0.5 * L]), L)[:, 0]),
         "x_star": _entry("x_star", x_star),
         "V_r": _entry("V_r", V_r),
         "omega_n": _entry("omega_n", model.omega_n),
     }
+    if "u2" in want:
+        data["u2"] = _entry("u2", beam.deflection(q, x, L))
+    if "u2_mid" in want:
+        data["u2_mid"] = _entry("u2_mid", beam.deflection(q, np.array([0.5 * L]), L)[:, 0])
     coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
     fm = cfg.film
-    if fm.enabled or cfg.contact.law != "none":
+    if (fm.enabled or cfg.contact.law != "none") and "film_min" in want:
         data["film_min"] = _entry("film_min", _select(thinnest_many, compiled)(x_star, y, p))
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
@@ -168,9 +176,11 @@ def collect(result) -> Results:
         tables = film.pressure_points(X, N, L, PRESSURE_NODES, fm.grid_points if fm.cavitation == "reynolds" else 0)
         pressure = _select(film.pad_pressure_many, compiled)
         for side, name in zip(model.sides, ("pressure", "pressure_lower")):
-            data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
-        force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
-        data["film_force"] = _entry("film_force", force)
+            if name in want:
+                data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
+        if "film_force" in want:
+            force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
+            data["film_force"] = _entry("film_force", force)
     imp = result.impacts
     coords["impact"] = _entry("impact", np.arange(len(imp)))
     data["impact_time"] = _entry("impact_time", [i[0] for i in imp])
@@ -178,6 +188,7 @@ def collect(result) -> Results:
     data["impact_velocity"] = _entry("impact_velocity", [i[2] for i in imp])
     data["impact_velocity_after"] = _entry("impact_velocity_after", [i[3] for i in imp])
     data["impact_side"] = _entry("impact_side", np.array([i[4] for i in imp], dtype=int))
+    data = {name: data[name] for name in VARIABLES if name in data}
     version, libs = versions()
     attrs = {
         "title": "lubelink simulation of a flexible link with a lubricated prismatic joint",

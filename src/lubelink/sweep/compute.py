@@ -22,7 +22,8 @@ __all__ = ["summarise"]
 
 # ====================================================================== one point
 def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
-    """Summary quantities of one results Dataset (:func:`lubelink.simulate`).
+    """Summary quantities of one results Dataset (:func:`lubelink.simulate`) or
+    :class:`lubelink.results.Results`.
 
     Returns ``{name: value}`` with ``status``, ``message`` and ``wall_time``
     [s] and each of ``quantities`` (see :data:`QUANTITIES` for units):
@@ -31,21 +32,22 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
     ``max_impacts`` floats.
     """
 
-    def peak(name):
-        if name not in ds or ds[name].size == 0:
-            return math.nan
-        return float(np.nanmax(np.abs(ds[name].values)))
+    def values(name):
+        return np.asarray(ds[name]) if name in ds else np.array([])
 
-    times = ds.impact_time.values if "impact_time" in ds else np.array([])
+    def peak(name):
+        v = values(name)
+        return float(np.nanmax(np.abs(v))) if v.size else math.nan
+
+    times, film_min, t = values("impact_time"), values("film_min"), values("time")
     compute = {
         "peak_u2_mid": lambda: peak("u2_mid"),
         "impact_count": lambda: int(ds.attrs.get("impact_count", len(times))),
         "first_impact_time": lambda: float(times[0]) if len(times) else math.nan,
         "peak_pressure": lambda: peak("pressure"),
-        "min_film": lambda: (float(np.nanmin(ds.film_min.values))
-                             if "film_min" in ds and ds.film_min.size else math.nan),
+        "min_film": lambda: float(np.nanmin(film_min)) if film_min.size else math.nan,
         "peak_film_force": lambda: peak("film_force"),
-        "end_time": lambda: float(ds.time.values[-1]) if ds.sizes.get("time") else math.nan,
+        "end_time": lambda: float(t[-1]) if t.size else math.nan,
         "nfev": lambda: int(ds.attrs.get("nfev", -1)),
         "impact_times": lambda: [float(t) for t in times[:max_impacts]]
                                 + [math.nan] * (max_impacts - min(len(times), max_impacts)),
@@ -87,20 +89,29 @@ def _trace(path, event, tag, flat):
 
 def _sample(ds, name, n_time, output_step):
     """Series ``name`` on the sweep's common time axis, NaN after an early end."""
-    extra = ds[name].shape[1:] if name in ds else ()
-    out = np.full((n_time,) + tuple(extra), np.nan)
-    if name in ds and ds.sizes.get("time"):
-        idx = np.rint(ds.time.values / output_step).astype(int)
+    values = np.asarray(ds[name]) if name in ds else None
+    out = np.full((n_time,) + (values.shape[1:] if values is not None else ()), np.nan)
+    t = np.asarray(ds["time"])
+    if values is not None and t.size:
+        idx = np.rint(t / output_step).astype(int)
         keep = (idx >= 0) & (idx < n_time)
-        out[idx[keep]] = ds[name].values[keep]
+        out[idx[keep]] = values[keep]
     return out
 
 
-def _simulate_point(config):
-    """The results Dataset of one point: the sweep's only call of the simulation core."""
-    from ..simulate import run, to_dataset
+#: The variable each summary quantity is computed from.
+_SOURCES = {"peak_u2_mid": "u2_mid", "peak_pressure": "pressure", "min_film": "film_min",
+            "peak_film_force": "film_force"}
 
-    return to_dataset(run(config))
+
+def _simulate_point(config, opts):
+    """The results of one point, only the variables it summarises and stores: the sweep's only call
+    of the simulation core."""
+    from ..results import collect
+    from ..simulate import run
+
+    wanted = {_SOURCES[q] for q in opts.quantities if q in _SOURCES} | set(opts.time_series)
+    return collect(run(config), variables=wanted)
 
 
 def _compute_point(flat, config, opts, trace=None):
@@ -114,7 +125,7 @@ def _compute_point(flat, config, opts, trace=None):
     t0 = time.perf_counter()
     series = {}
     try:
-        ds = _simulate_point(config)
+        ds = _simulate_point(config, opts)
         record = summarise(ds, opts.quantities, opts.max_impacts)
         for name in opts.time_series:
             series[name] = _sample(ds, name, opts.n_time, opts.output_step)
