@@ -1,7 +1,7 @@
 """Throughput of ``lubelink sweep``: points per second on 1 and 2 Dask workers, and the overhead per point.
 
 The sweep: the ``paper`` scenario over ``mechanism.crank_speed`` (20 values, 25-40 rad/s) x
-``film.viscosity`` (``--points / 20`` values, 0.05-0.2 Pa s), 200 points by default. It is run
+``film.viscosity`` (``--points / 20`` values, 0.05-0.2 Pa s), 400 points by default. It is run
 
 1. serially in this process, calling the same per-point function the workers call (simulation,
    results Dataset, summary): the baseline, the cost of the simulations themselves;
@@ -25,7 +25,7 @@ paid once per cluster, not per point. Reported per run:
 
 Usage::
 
-    python benchmarks/sweep_throughput.py                     # 200 points of 2 s (long: ~25 min on 2 cores)
+    python benchmarks/sweep_throughput.py                     # 400 points of 2 s (about a minute)
     python benchmarks/sweep_throughput.py --t-end 0.5         # shorter simulations
     python benchmarks/sweep_throughput.py --points 40 --workers 1,2,4
 """
@@ -62,6 +62,21 @@ def warm_up():
 
     summarise(lubelink.simulate("paper", set={"solver.t_end": 0.01, "output.x_points": 5}))
     return os.getpid()
+
+
+def single_simulate(repeats=21):
+    """Median wall time of one ``lubelink.simulate("paper")`` (Dataset included), the user's single run."""
+    import statistics
+
+    import lubelink
+
+    lubelink.simulate("paper")
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        lubelink.simulate("paper")
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
 
 
 def serial(sp):
@@ -120,7 +135,7 @@ def worker_times(trace):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--points", type=int, default=200, help="points in the sweep (multiple of 20)")
+    parser.add_argument("--points", type=int, default=400, help="points in the sweep (multiple of 20)")
     parser.add_argument("--t-end", type=float, default=2.0, help="simulated time per point [s] (default 2)")
     parser.add_argument("--workers", default="1,2", help="comma-separated worker counts (default 1,2)")
     parser.add_argument("--task-seconds", type=float, default=0.5,
@@ -136,6 +151,8 @@ def main(argv=None):
 
     t_serial, t_sim = serial(sp)
     n = sp.size
+    t_one = single_simulate()
+    print(f"one lubelink.simulate('paper'): {1e3 * t_one:.2f} ms (median of 21)", flush=True)
     print(f"serial baseline: {t_serial:.1f} s ({1e3 * t_serial / n:.1f} ms per point, of which "
           f"{1e3 * t_sim / n:.1f} ms in the simulation itself), load average {os.getloadavg()[0]:.2f}",
           flush=True)
@@ -164,6 +181,9 @@ def main(argv=None):
     by_workers = {r[1]: r[2] for r in rows}
     if "1" in by_workers and "2" in by_workers:
         print(f"\n2 workers / 1 worker: {by_workers['1'] / by_workers['2']:.2f}x")
+    for r in rows[1:]:
+        print(f"{r[1]} worker(s): wall time per point {1e3 * r[2] / n:.2f} ms = "
+              f"{r[2] / n / t_one:.2f}x one simulate() (target <= 0.75x on 2 workers)")
     print(f"load average at end {os.getloadavg()[0]:.2f}")
     return 0
 

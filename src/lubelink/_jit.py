@@ -88,6 +88,10 @@ def jitable(func=None, *, inline=False):
     called in the hot loops with many arguments, where a call costs more than the arithmetic (it
     passes every array and tuple member). Such a function must not rely on a ``None`` argument
     to prune its branches (the pruning is by the types of a compiled function's own arguments).
+    Inlining costs compile time, paid on a first run: the film force inlined into the right-hand
+    side made the cold ``lubelink run`` compile 2.6x longer (71 s against 27 s of CPU) for 15 %
+    of the ``paper`` run's speed, so it is used only where it was measured to pay
+    (``model.rhs_given``, the DOP853 stage).
     """
     if func is None:
         return lambda f: jitable(f, inline=inline)

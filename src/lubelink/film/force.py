@@ -161,7 +161,7 @@ def _half_sommerfeld_side(side, ws, nodes, f, B, pad, S, F):
     return -side * B * total
 
 
-@jitable(inline=True)
+@jitable
 def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     """Add the modal forces of the film on ``side`` to ``F`` [N]; return its resultant along +j [N].
 
@@ -219,7 +219,7 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     return side * B * total
 
 
-@jitable(inline=True)
+@jitable
 def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
     """Modal film forces added to ``F`` [N]; returns the resultant film force on the link along +j [N].
 
