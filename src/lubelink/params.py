@@ -242,8 +242,9 @@ class Solver:
     max_wall_time : float
         Wall-clock budget of one run [s]; ``inf`` for no limit.
     backend : str
-        ``"auto"`` (the compiled Numba path where it applies), ``"numba"``
-        or ``"numpy"`` (the reference right-hand side).
+        ``"auto"`` or ``"numba"``: the kernels compiled by Numba (every
+        option has them); ``"numpy"``: the same source run as Python, a
+        debugging aid (as when Numba is not installed, or disabled).
     """
 
     method: str = "auto"
