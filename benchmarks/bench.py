@@ -15,7 +15,8 @@ Printed, in this order (``benchmarks/README.md`` records a run):
    for 1, 3, 7 and 15 modes: time of ``simulate.run``, evaluations, steps, and the largest error of
    ``u2`` (all points, all samples) against a tight DOP853 run (rtol 1e-12, atol 1e-15).
 5. **compile** -- in fresh processes with an empty ``NUMBA_CACHE_DIR``: ``lubelink run`` cold
-   (compiling what the default run needs) and warm, and ``lubelink compile`` (every kernel).
+   (compiling what the default run needs) and warm, in one process and with the helper process
+   of :mod:`lubelink._prewarm`, and ``lubelink compile`` (every kernel).
 
 ``--compare-with PATH`` also times section 1 with the lubelink of another checkout (``PATH/src``
 imported in a subprocess) on the same machine in the same run, and prints the ratios.
@@ -215,12 +216,13 @@ def bench_methods(args):
 # --- 5. compilation -------------------------------------------------------------------------------------
 def bench_compile(args):
     print("\n5. compilation, each in a fresh process with an empty NUMBA_CACHE_DIR")
-    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        argv = ["run", "-o", f"{tmp}/out.nc", "--overwrite"]
-        cold = lubelink_process(argv, env)
-        warm = lubelink_process(argv, env)
-        print(f"   `lubelink run` cold: {cold:.1f} s, then warm: {warm:.2f} s")
+    for label, prewarm in (("one process (LUBELINK_PREWARM=0)", "0"), ("with the helper process", "1")):
+        with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as tmp:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache, LUBELINK_PREWARM=prewarm)
+            argv = ["run", "-o", f"{tmp}/out.nc", "--overwrite"]
+            cold = lubelink_process(argv, env)
+            warm = lubelink_process(argv, env)
+            print(f"   `lubelink run` cold, {label}: {cold:.1f} s, then warm: {warm:.2f} s", flush=True)
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         print(f"   `lubelink compile` (every kernel, every method) cold: {lubelink_process(['compile'], env):.1f} s")

@@ -74,6 +74,25 @@ def method_name(config):
     return "DOP853" if config.beam.modes == 1 else "exponential"
 
 
+def _compile_on_two_cores(model, motion, method):
+    """On a cold cache, compile the method here while a helper process compiles the right-hand
+    side, the gap and the results (:mod:`lubelink._prewarm`)."""
+    from . import _prewarm
+
+    helper = _prewarm.start(model, motion)
+    if helper is None:
+        return
+    from .integrate.driver import first_class, signatures
+
+    try:
+        sigs = signatures(model.params_type)
+        for kernel, sig in zip((method.init, method.step, method.dense), sigs[2:]):
+            first_class(kernel, sig)
+    except _compile_errors():
+        return  # the run itself meets the error and falls back
+    _prewarm.wait(helper)
+
+
 def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     """Integrate a validated configuration, handling film breakdown as it occurs.
 
@@ -109,6 +128,8 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     out_method = method_name(config)
     method = integrate.method(out_method)
     options = {"omega": model.omega_n, "zeta": config.beam.damping_ratio}
+    if model.compiled and out_method in integrate.COMPILED_METHODS:
+        _compile_on_two_cores(model, motion, method)
     t = 0.0
     y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(2 * model.modes)
     ts, ys = [t_eval[:1]], [y[None, :]]
