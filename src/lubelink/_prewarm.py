@@ -55,7 +55,8 @@ def start(model, motion=None):
     from .integrate.driver import signatures
     from .model import rhs
 
-    if _cached(rhs, signatures(model.params_type)[0].args):
+    args = signatures(model.params_type)[0].args
+    if args in rhs.overloads or _cached(rhs, args):  # compiled in this process, or on disk
         return None
     env = dict(os.environ, LUBELINK_PREWARM="0")
     try:
