@@ -254,6 +254,7 @@ def test_animation_views_are_to_scale_and_have_legends():
 
     ds = lubelink.simulate("paper", set={"solver.t_end": 0.06, "solver.output_step": 0.02, "output.x_points": 11})
     fig, anim = animate_mechanism(ds)
+    anim._init_draw()  # as saving does (and it marks the animation as drawn)
     anim._draw_frame(2)
     plane, link = fig.axes
     assert plane.get_legend() is not None and link.get_legend() is not None
