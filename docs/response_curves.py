@@ -35,7 +35,7 @@ def transient_peak(scenario, settings, speed, seconds=8.0):
 
 
 def quasi_static_peak(config, speed):
-    """Peak of the one-mode quasi-static midpoint deflection ``f_1(t) / omega_1^2`` over a turn [m] (MODEL.md 6b)."""
+    """Peak of the one-mode quasi-static midpoint deflection ``f_1(t) / omega_1^2`` over a turn [m] (docs/model.md §10.2)."""
     m, b = config.mechanism, config.beam
     L = m.rod_length
     beta = math.pi / L

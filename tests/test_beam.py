@@ -1,6 +1,6 @@
-"""Modal beam model against analytic results and quadrature (MODEL.md sections 1, 2, 6).
+"""Modal beam model against analytic results and quadrature (docs/model.md §1, §2, §10).
 
-Each check has an independent reference: MODEL.md's table of natural
+Each check has an independent reference: docs/model.md §10.1's table of natural
 frequencies, SciPy quadrature of the sine transforms, finite differences of
 the deflection, the textbook quasi-static midspan deflection of a simply
 supported beam, the exact solution of an undamped/damped oscillator under a
@@ -41,7 +41,7 @@ def forcing_exact(A_O2, alpha, n):
 
 # ------------------------------------------------------------------ frequencies
 def test_natural_frequencies_section6():
-    """MODEL.md section 6(a): 148.205, 592.821, 1333.85 rad/s (printed to 6 s.f.,
+    """docs/model.md §10.1: 148.205, 592.821, 1333.85 rad/s (printed to 6 s.f.,
     so the tolerance is half a unit in the last printed digit)."""
     w = beam.natural_frequencies(3, L, E, I, RHO, A)
     for got, ref, half_unit in zip(w, [148.205, 592.821, 1333.85], [5e-4, 5e-4, 5e-3]):
@@ -160,7 +160,7 @@ def test_modal_energy_equals_beam_energy():
 
 
 def test_modal_acceleration_signs():
-    """Centrifugal softening (-omega^2 u2 in the PDE, MODEL.md section 1 / erratum of Eq. 13)
+    """Centrifugal softening (-omega^2 u2 in the PDE, docs/model.md §1.3 / erratum of Eq. 13)
     lowers the stiffness: q_ddot = -(omega_n^2 - omega^2) q - 2 zeta omega_n q_dot + f."""
     wn = np.array([100.0, 400.0])
     qdd = beam.modal_acceleration(np.array([1.0, 2.0]), np.array([0.5, -1.0]), wn, 0.1, 30.0,
@@ -224,7 +224,7 @@ def test_step_load_exact_modal_solution(zeta, omega):
 
 
 def test_quasi_static_midspan_deflection_slow_crank():
-    """MODEL.md section 6(b): for a slow crank the midspan follows the static deflection
+    """docs/model.md §10.2: for a slow crank the midspan follows the static deflection
 
         u_s(t) = -5 rho A L^4 / (384 EI) (A_O2 + alpha L/2).
 

@@ -50,6 +50,26 @@ def test_toml_file_and_overrides(tmp_path):
     assert (c.beam.modes, c.beam.damping_ratio, c.film.model) == (3, 0.02, "none")
 
 
+def test_summary_names_the_overrides_of_its_source(tmp_path):
+    r = cli("run", "paper-dry", *SHORT_ARGS, "--set", "solver.t_end=0.1", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    source = next(line for line in r.stdout.splitlines() if line.startswith("source"))
+    # solver.t_end given twice counts once, with the value that was used
+    assert source.split(None, 1)[1] == ("paper-dry + 3 overrides: output.x_points=11, output.pad_points=5, "
+                                        "solver.t_end=0.1")
+    plain = cli("run", "paper-dry", "-o", "plain.nc", *SHORT_ARGS[:2], cwd=tmp_path)
+    assert "source         paper-dry + 1 override: solver.t_end=0.2\n" in plain.stdout
+    many = [arg for k in ("youngs_modulus=2e11", "density=7800", "width=0.011", "height=0.011", "modes=2")
+            for arg in ("--set", f"beam.{k}")]
+    r = cli("run", "-o", "many.nc", "-q", *SHORT_ARGS, *many, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    from lubelink.cli import _source_label
+
+    label = _source_label("paper", [many[i] for i in range(1, len(many), 2)])
+    assert label.startswith("paper + 5 overrides: beam.youngs_modulus=2e11, ") and "(5 in all;" in label
+    assert _source_label("paper", []) == "paper"
+
+
 @pytest.mark.parametrize("args, needle", [
     (["run", "--set", "beam.modes=0"], "beam.modes = 0"),
     (["run", "--set", "film.viscositty=1"], "did you mean 'viscosity'"),

@@ -1,4 +1,4 @@
-"""Impact law and gap function (MODEL.md section 5) against independent references."""
+"""Impact law and gap function (docs/model.md §5.3) against independent references."""
 
 import numpy as np
 import pytest
@@ -14,7 +14,7 @@ def modal_kinetic(q_dot, mass=1.0):
     return 0.5 * mass * np.sum(q_dot**2)
 
 
-# MODEL.md section 5, table: only mode 1 moving at 1 m/s, x_c = 0.43 L, e = 0.7.
+# docs/model.md §5.3, table: only mode 1 moving at 1 m/s, x_c = 0.43 L, e = 0.7.
 TABLE = [(1, -1.700, -0.700), (3, -0.921, -0.667), (5, -0.633, -0.440), (20, -0.154, 1.345), (100, -0.032, 1.000)]
 
 

@@ -67,7 +67,7 @@ def test_period_doubling_and_neimark_sacker_crossings():
 # ----------------------------------------------------------------------------- lubelink's response curves
 def test_continuation_passes_a_resonance_and_comes_back_to_the_same_branch():
     settings = {"beam.damping_ratio": 0.02}
-    w1 = 148.20524632103607  # omega_1 of the paper's rod (MODEL.md 6a); omega_1/3 = 49.40 rad/s
+    w1 = 148.20524632103607  # omega_1 of the paper's rod (docs/model.md §10.1); omega_1/3 = 49.40 rad/s
     up = continuation("paper-dry", settings, start=46.0, stop=53.0)
     down = continuation("paper-dry", settings, start=53.0, stop=46.0, y0=np.r_[up.q0.values[-1], up.q_dot0.values[-1]])
     for ds in (up, down):

@@ -1,6 +1,6 @@
 """Tests of the Reynolds film (``lubelink.film``) against independent references.
 
-MODEL.md section 4 and "What the implementation must be checked against":
+docs/model.md §4 and "What the implementation must be checked against":
 
 * the classical plane inclined slider (pressure and load, closed form);
 * the parallel-plate squeeze film (pressure and load, closed form);
@@ -73,12 +73,12 @@ def slider_load(h_i, h_o, B, U, mu):
 
 
 def branch_index_spec(bx):
-    """The branch index of MODEL.md section 4, ``m = floor((beta x + pi) / (2 pi))``."""
+    """The branch index of docs/model.md §4, ``m = floor((beta x + pi) / (2 pi))``."""
     return np.floor((np.asarray(bx) + np.pi) / (2.0 * np.pi))
 
 
 def single_harmonic_antiderivatives(x, beta, clearance, phi):
-    """MODEL.md section 4 closed forms ``tilde I_1``, ``tilde I_2`` for ``xi = H/2 - phi sin(beta x)``.
+    """docs/model.md §4.8 closed forms ``tilde I_1``, ``tilde I_2`` for ``xi = H/2 - phi sin(beta x)``.
 
     The branch index is ``m = floor((beta x + pi)/(2 pi))``. It is computed here as
     ``round((theta - arctan(tan theta))/pi)`` with ``theta = beta x / 2``, which equals
@@ -106,7 +106,7 @@ def single_harmonic_antiderivatives(x, beta, clearance, phi):
 
 
 def single_harmonic_pressure(X, n, phi, x0, V_r, mu=MU, clearance=H, pad_length=PAD, rod_length=ROD):
-    """Closed-form wedge pressure ``6 mu V_r [I1(X) - I1(l)/I2(l) I2(X)]`` (MODEL.md section 4)."""
+    """Closed-form wedge pressure ``6 mu V_r [I1(X) - I1(l)/I2(l) I2(X)]`` (docs/model.md §4.8)."""
     beta = n * np.pi / rod_length
     X = np.asarray(X, dtype=float)
     A1, A2 = single_harmonic_antiderivatives(x0 + X, beta, clearance, phi)
@@ -281,7 +281,7 @@ def test_parallel_plate_squeeze(h_dot, V_r, as_array):
 
 
 # ----------------------------------------------------------------------------------
-# 3. Single-harmonic closed forms (MODEL.md section 4)
+# 3. Single-harmonic closed forms (docs/model.md §4.8)
 # ----------------------------------------------------------------------------------
 
 # (n, phi, x0): the n = 2 cases put the pad across x = L/2 (beta x = pi), where the
@@ -308,7 +308,7 @@ def test_closed_forms_match_quad(n, phi, x0):
         q2 = integrate.quad(lambda x: xi(x) ** -3, x0, x0 + X, **QUAD)[0]
         # measured worst relative difference 1.2e-12 (I2, phi = -7e-5: Theta gamma1^-5/2
         # and the rational terms cancel by ~3 digits). 1e-10 keeps the oracle trustworthy; a
-        # wrong branch is off by O(1) (MODEL.md: -2.72e5 instead of 5.31e4).
+        # wrong branch is off by O(1) (docs/model.md §4.8, the branch index m).
         assert_allclose(B1 - A1, q1, rtol=1e-10)
         assert_allclose(B2 - A2, q2, rtol=1e-10)
 
@@ -407,7 +407,7 @@ def test_pressure_matches_solve_bvp(bvp_case):
     ref = c["p_ref"](X)
     # solve_bvp with tol = 1e-10 on the scaled system: measured max |difference| /
     # max|p| = 1.5e-10 (wedge, 2.0e-6 Pa of 12.7 kPa) and 5.0e-12 (squeeze, 1.3e-6 Pa
-    # of 262 kPa); MODEL.md quotes 2.3e-10 Pa. 1e-8 is far below any modelling error
+    # of 262 kPa). 1e-8 is far below any modelling error
     # (a wrong sign or factor in the squeeze term is O(1)).
     assert_allclose(p, ref, rtol=0, atol=1e-8 * np.abs(ref).max())
 
@@ -625,7 +625,7 @@ def test_sub_ambient_pressure_in_diverging_converging_film():
 
 
 # ----------------------------------------------------------------------------------
-# 8. Cavitation options (MODEL.md D5)
+# 8. Cavitation options (docs/model.md §4.6)
 # ----------------------------------------------------------------------------------
 # Single-harmonic film with its thinnest point inside the pad (x = L/2, X = 30 mm):
 # converging then diverging for V_r > 0. The full (Sommerfeld) solution dips to
@@ -786,7 +786,7 @@ def test_rejects_non_positive_film():
 @pytest.mark.parametrize("cavitation", ["none", "reynolds"])
 @pytest.mark.parametrize("where", ["end", "start"])
 def test_rejects_film_closed_at_pad_edge(where, cavitation):
-    # Contact at a collar edge (MODEL.md section 5: "often a collar edge") is a film of
+    # Contact at a collar edge (docs/model.md §5.3: "often a collar edge") is a film of
     # zero thickness at X = 0 or X = l. The Reynolds integrals diverge there and no
     # pressure exists, so `pressure` must refuse, as its error message promises
     # ("positive on the whole pad"). It checks xi only at interior points (Gauss-

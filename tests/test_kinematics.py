@@ -1,8 +1,8 @@
-"""Slider-crank kinematics against MODEL.md section 3 and independent geometry.
+"""Slider-crank kinematics against docs/model.md §3 and independent geometry.
 
 Everything here is checked against something computed without
 ``lubelink.kinematics``' closed forms: the independently computed reference
-table of MODEL.md section 3, and positions built from the mechanism's
+table of docs/model.md §3, and positions built from the mechanism's
 geometry (crank pin on a circle, slider on the X axis, collar under a
 vertical guide) differentiated by 4th-order central finite differences.
 """
@@ -76,7 +76,7 @@ RTOL1, RTOL2 = 1e-10, 2e-9
 
 
 def test_reference_table_section3():
-    """MODEL.md section 3 reference values at t = 0.0123 s (computed independently).
+    """docs/model.md §10.4 reference values at t = 0.0123 s (computed independently).
 
     The table is printed to 9 significant figures, so rel 5e-9 is half a unit
     in the last printed digit (plus margin).
@@ -135,7 +135,7 @@ def test_collar_vertical_acceleration():
 
 
 def test_chord_point_transverse_acceleration():
-    """MODEL.md section 1: the chord point at x has transverse acceleration A_O2 + alpha x.
+    """docs/model.md §1.3: the chord point at x has transverse acceleration A_O2 + alpha x.
 
     Checked at x = 0.3 and x = L on the rigid rod by differentiating its
     position twice and projecting on j.
@@ -161,7 +161,7 @@ def test_joint_reaction_force_balance():
 
 
 def test_collar_travel_paper():
-    """MODEL.md section 3: x_star in [0.330, 0.470] m and max |V_r| = 2.2054 m/s.
+    """docs/model.md §3: x_star in [0.330, 0.470] m and max |V_r| = 2.2054 m/s.
 
     The extremes are also checked against a dense scan of the independent
     geometry (2e5 samples per turn: sampling error of an extreme ~ x''dt^2/8

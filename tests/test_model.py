@@ -50,7 +50,7 @@ def test_two_sided_gap_and_impact_on_the_lower_side():
 
 
 def test_gravity_sag_of_a_horizontal_link_at_rest():
-    """Static sag 5 rho A g L^4 / (384 E I) at midspan (MODEL.md section 1)."""
+    """Static sag 5 rho A g L^4 / (384 E I) at midspan (docs/model.md §1.3)."""
     zero = lambda t: 0.0 * np.asarray(t)  # noqa: E731
     at_rest = PrescribedMotion(A_O2=zero, omega=zero, alpha=zero, x_star=lambda t: 0.4 + zero(t), V_r=zero)
     ds = lubelink.simulate("paper-dry", set={"mechanism.gravity": [0.0, -9.81], "beam.modes": 9,
@@ -58,7 +58,7 @@ def test_gravity_sag_of_a_horizontal_link_at_rest():
                                              "solver.output_step": 0.01}, motion=at_rest)
     b = resolve("paper").beam
     sag = 5 * b.density * b.area * 9.81 / (384 * b.youngs_modulus * b.second_moment)
-    assert sag == pytest.approx(0.567e-3, rel=2e-3)  # MODEL.md: 0.57 mm
+    assert sag == pytest.approx(0.567e-3, rel=2e-3)  # docs/model.md §6: 0.567 mm
     # 9 modes truncate the series of the uniform load at ~1e-5 relative; damping has settled the transient
     assert float(ds.u2_mid[-1]) == pytest.approx(-sag, rel=1e-4)
 
@@ -102,7 +102,7 @@ def test_compliant_contact_restitution_for_one_mode():
 
 
 def test_compliant_contact_converges_with_modes_where_restitution_does_not():
-    """MODEL.md section 5: the point restitution law depends on N; a compliant contact converges.
+    """docs/model.md §5.3: the point restitution law depends on N; a compliant contact converges.
 
     A short transverse acceleration pulse throws a dry link at the collar
     (half-clearance 0.5 mm). The change of mode 1's velocity over the first

@@ -220,3 +220,59 @@ def test_cli_animate_rejects_what_it_cannot_write(tmp_path, name, needle):
         pytest.skip("ffmpeg is installed")
     r = cli("animate", "-o", str(tmp_path / name), "--duration", "0.2", "-q")
     assert r.returncode == 2 and needle in r.stderr and "Traceback" not in r.stderr
+
+
+def test_errata_figure_shows_the_corrected_curve_and_every_variant():
+    """Issue 16 item 11: the corrected curve was hidden under the variants that coincide with it."""
+    import xarray as xr
+
+    from lubelink.plots import figure_errata
+
+    t = np.linspace(0.0, 1.0, 201)
+    base = 2e-3 * np.sin(2 * np.pi * 5 * t)
+    runs = {"corrected": base, "tiny": base + 1e-8 * t, "large": base + 1e-4 * np.sin(40 * t),
+            "large too": base + 1.01e-4 * np.sin(40 * t)}
+    data = {k: xr.Dataset({"u2_mid": ("time", v)}, coords={"time": t}) for k, v in runs.items()}
+    fig = figure_errata(data, "corrected")
+    top, bottom = fig.axes[:2]
+    lines = {ln.get_label(): ln for ln in top.get_lines()}
+    ref = lines["corrected"]
+    for label in ("tiny", "large", "large too"):
+        # under every variant, and wider than it, so it shows where they coincide
+        assert ref.get_zorder() < lines[label].get_zorder() and ref.get_linewidth() > 2 * lines[label].get_linewidth()
+    assert len({str(lines[k].get_linestyle()) for k in ("tiny", "large", "large too")}) == 3
+    diff = {ln.get_label(): ln for ln in bottom.get_lines() if not ln.get_label().startswith("_")}
+    # the smallest difference is drawn last, on top of the larger ones
+    assert diff["tiny"].get_zorder() > diff["large too"].get_zorder()
+    assert diff["large"].get_zorder() > diff["large too"].get_zorder()
+    assert {str(diff[k].get_linestyle()) for k in diff} == {str(lines[k].get_linestyle()) for k in diff}
+
+
+def test_animation_views_are_to_scale_and_have_legends():
+    """Issue 16 item 11: a legend, and no magnified curve on true-coordinate axes."""
+    from lubelink.plots import animate_mechanism
+
+    ds = lubelink.simulate("paper", set={"solver.t_end": 0.06, "solver.output_step": 0.02, "output.x_points": 11})
+    fig, anim = animate_mechanism(ds)
+    anim._init_draw()  # as saving does (and it marks the animation as drawn)
+    anim._draw_frame(2)
+    plane, link = fig.axes
+    assert plane.get_legend() is not None and link.get_legend() is not None
+    assert plane.get_xlabel() == "X [m]" and plane.get_ylabel() == "Y [m]"
+    assert link.get_ylabel() == "deflection u2 [mm]" and link.get_xlabel().endswith("[m]")
+    # the link in the plane: its end is the slider, from the geometry of the mechanism alone
+    OA, L, w0 = 0.07, 1.0, 10 * math.pi
+    phi = w0 * float(ds.time[2])
+    rod = next(ln for ln in plane.get_lines() if ln.get_label() == "link (to scale)")
+    end = np.array([rod.get_xdata()[-1], rod.get_ydata()[-1]])
+    np.testing.assert_allclose(end, [OA * math.cos(phi) + math.sqrt(L**2 - (OA * math.sin(phi)) ** 2), 0.0],
+                               atol=1e-12)
+    mid = np.array([rod.get_xdata()[5], rod.get_ydata()[5]])
+    pin = OA * np.array([math.cos(phi), math.sin(phi)])
+    chord_mid = pin + 0.5 * (end - pin)
+    # the true deflection: the midpoint is u2_mid (a few mm) off the chord, not 50 times that
+    assert np.linalg.norm(mid - chord_mid) == pytest.approx(abs(float(ds.u2_mid[2])), rel=1e-9)
+    deflection = next(ln for ln in link.get_lines() if ln.get_label() == "link deflection u2(x, t)")
+    np.testing.assert_allclose(deflection.get_ydata(), ds.u2.values[2] * 1e3)
+    face = next(ln for ln in link.get_lines() if ln.get_label().startswith("collar face"))
+    assert face.get_ydata()[0] == pytest.approx(0.5 * 6e-3 * 1e3)  # H/2 of the paper scenario [mm]

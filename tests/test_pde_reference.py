@@ -1,6 +1,6 @@
 """The modal solution against an independent finite-difference solution of the PDE.
 
-MODEL.md, "What the implementation must be checked against": an independent
+docs/model.md §11, "How each piece is checked": an independent
 solution of the beam PDE against the modal solution, converging as the mesh
 is refined. ``tests/reference/fd_beam.py`` integrates
 
@@ -8,7 +8,7 @@ is refined. ``tests/reference/fd_beam.py`` integrates
 
 by the method of lines (5-point u'''' with ghost nodes for the pinned ends),
 with no lubelink code. The forcing is the paper's slider-crank, written here
-from MODEL.md section 3's formulas with the math module (and cross-checked
+from docs/model.md §3's formulas with the math module (and cross-checked
 against lubelink.kinematics). The modal solution is ``lubelink.simulate``'s
 "paper-dry" scenario with 5 modes.
 
@@ -56,7 +56,7 @@ MODES = 5
 
 
 def paper_motion(t):
-    """MODEL.md section 3: A_O2 = -OA w0^2 sin(phi + theta), omega, alpha (paper Section 6)."""
+    """docs/model.md §3: A_O2 = -OA w0^2 sin(phi + theta), omega, alpha (paper Section 6)."""
     phi = W0 * t
     s, c = math.sin(phi), math.cos(phi)
     r = math.sqrt(1.0 - (LAM * s) ** 2)
@@ -117,7 +117,7 @@ def test_fd_converges_to_modal_solution_at_second_order(solutions):
     ds, fd = solutions
     u_modal = ds.u2_mid.values
     peak = np.abs(u_modal).max()
-    assert peak == pytest.approx(2.6e-3, abs=0.05e-3)  # MODEL.md section 2: "a peak of about 2.6 mm"
+    assert peak == pytest.approx(2.6e-3, abs=0.05e-3)  # docs/model.md §2: "a peak of about 2.6 mm"
     errors = np.array([np.abs(fd[n].at(0.5 * L) - u_modal).max() for n in MESHES])
     h = L / np.array(MESHES)
     slope = np.polyfit(np.log(h), np.log(errors), 1)[0]

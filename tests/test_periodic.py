@@ -1,7 +1,7 @@
 """Periodic steady state: shooting against transients and closed forms, Floquet multipliers, the CLI.
 
 References are independent of the shooting code: long transients of :func:`lubelink.simulate.run`,
-the harmonic balance (Hill's method) of the one-mode modal equation written from MODEL.md, the
+the harmonic balance (Hill's method) of the one-mode modal equation written from docs/model.md §2.3, the
 exact Floquet moduli of a damped linear oscillator (Liouville: ``det M = exp(-2 zeta omega_n T)``
 per decoupled mode, a complex pair on the circle of radius ``exp(-zeta omega_n T)``), and the
 determinant of the saltation of a restitution impact (``e^2`` per impact).
@@ -30,7 +30,7 @@ def crank_period(config):
 def harmonic_balance(config, zeta, t, harmonics=40, samples=512):
     """``q_1(t)`` of the exact periodic response of the one-mode dry link (Hill's method).
 
-    The modal equation of MODEL.md section 2, ``q'' + 2 zeta w q' + (w^2 - omega(t)^2) q =
+    The modal equation of docs/model.md §2, ``q'' + 2 zeta w q' + (w^2 - omega(t)^2) q =
     -2/(L beta) (2 A_O2 + alpha L)``, in Fourier series: the forcing and ``omega^2`` from the
     slider-crank's closed-form kinematics, the harmonics ``c_k`` from the linear system
     ``(w^2 - (k w0)^2 + 2i zeta w k w0) c_k - sum_m W_(k-m) c_m = F_k``.
@@ -93,7 +93,7 @@ def test_exact_periodic_response_as_damping_goes_to_zero():
         if zeta == 0.0:  # undamped: neutral, on the unit circle (det M = 1)
             np.testing.assert_allclose(ds.floquet_modulus.values, 1.0, atol=1e-7)
             assert ds.attrs["stable"] == 0
-    # MODEL.md section 6: "the exact periodic steady state of the 1-mode model has amplitude 2.106 mm"
+    # docs/model.md §10.3: the exact periodic response of the 1-mode model peaks at 2.1055 mm
     assert peaks[0.0] == pytest.approx(2.1055e-3, abs=1e-7)
     assert abs(peaks[1e-3] - peaks[0.0]) < abs(peaks[1e-2] - peaks[0.0]) < 1e-6
 

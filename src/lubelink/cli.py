@@ -116,6 +116,22 @@ def _budget(r):
     return budget if math.isfinite(budget) else None
 
 
+def _source_label(source, overrides, shown=4):
+    """``source`` as the summary names it: with the ``--set`` overrides that changed it, if any."""
+    from .config import parse_override
+
+    latest = {}
+    for text in overrides:  # the last --set of a key wins, as in resolve_args
+        latest.pop(parse_override(text)[0], None)
+        latest[parse_override(text)[0]] = text.strip()
+    if not latest:
+        return str(source)
+    texts = list(latest.values())
+    listed = ", ".join(texts[:shown]) + (f", ... ({len(texts)} in all; the file's config attribute has them)"
+                                         if len(texts) > shown else "")
+    return f"{source} + {len(texts)} override{'s' if len(texts) > 1 else ''}: {listed}"
+
+
 def _summary(r, source, path, wall):
     """The run's summary, a line a row, from its :class:`~lubelink.results.Results`."""
     import numpy as np
@@ -254,7 +270,7 @@ def _cmd_run(args):
     if path is not None:
         path, failure = _write_results(results, path, args.overwrite)
     if not args.quiet:
-        print(_summary(results, source, path, time.perf_counter() - began))
+        print(_summary(results, _source_label(source, args.overrides), path, time.perf_counter() - began))
     if failure:
         print(f"lubelink: error: {failure}", file=sys.stderr)
         return 1

@@ -45,7 +45,7 @@ CHOICES = {
 
 @dataclass(frozen=True)
 class Mechanism:
-    """Slider-crank of the paper's Section 6 (MODEL.md section 3).
+    """Slider-crank of the paper's Section 6 (docs/model.md §3).
 
     Attributes
     ----------

@@ -193,7 +193,8 @@ def collect(result, variables=None) -> Results:
     attrs = {
         "title": "lubelink simulation of a flexible link with a lubricated prismatic joint",
         "references": "Marghitu & Guran, The Dynamics of a Flexible Beam With a Lubricated Prismatic Kinematic "
-                      "Pair, J. Vibration and Acoustics; corrected as lubelink's docs/model.md describes",
+                      "Pair, J. Vibration and Acoustics; the equations as lubelink implements them: docs/model.md "
+                      "sections 1-7, its corrections to the paper: section 8, its parameter choices: section 9",
         "lubelink_version": version,
         "lubelink_format": FORMAT_VERSION,
         "versions": libs,

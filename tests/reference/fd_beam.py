@@ -12,7 +12,7 @@ The scheme is second-order accurate in h. Time: scipy's ``solve_ivp``
 on the first-order system (u, u_t) with tight tolerances, so the error left is
 the spatial O(h^2) one.
 
-This is MODEL.md section 1's transverse equation, written directly (the
+This is docs/model.md §1.3's transverse equation, written directly (the
 reference for "an independent solution of the beam PDE ... converging as the
 mesh is refined").
 """

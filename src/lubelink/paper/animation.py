@@ -16,7 +16,7 @@ from .._files import atomic_path, target_problem
 __all__ = ["animate"]
 
 
-def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20, duration=0.4,
+def animate(source="paper", set=None, output="mechanism.gif", fps=20, duration=0.4,
             speed=0.1, overwrite=False, dpi=80, progress=False):
     """Simulate and write an animation of the mechanism (GIF, or MP4 with ffmpeg).
 
@@ -27,8 +27,6 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
         ``solver.output_step`` are set from ``duration``, ``speed`` and ``fps``.
     output : path
         ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg); written atomically.
-    scale : float
-        Magnification of the deflection and clearance [-].
     fps : int
         Frames per second [1/s].
     duration : float
@@ -53,7 +51,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
     suffix = output.suffix.lower()
     if suffix not in (".gif", ".mp4"):
         raise ValueError(f"-o {output}: the animation must be a .gif or .mp4 file")
-    for name, value in (("--scale", scale), ("--fps", fps), ("--duration", duration), ("--speed", speed)):
+    for name, value in (("--fps", fps), ("--duration", duration), ("--speed", speed)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise ValueError(f"{name} = {value}: must be a positive number")
     if os.path.lexists(output) and not overwrite:
@@ -75,7 +73,7 @@ def animate(source="paper", set=None, output="mechanism.gif", scale=50.0, fps=20
                   progress=progress)
     from .. import plots
 
-    fig, anim = plots.animate_mechanism(ds, scale=scale, fps=fps, dpi=dpi)
+    fig, anim = plots.animate_mechanism(ds, fps=fps, dpi=dpi)
     writer = manim.PillowWriter(fps=fps) if suffix == ".gif" else manim.FFMpegWriter(fps=fps)
     bar = None
     callback = None

@@ -61,7 +61,7 @@ def _cmd_animate(args):
 
     _, config = resolve_args(args)
     try:
-        path = animate(config, None, args.output, scale=args.scale, fps=args.fps, duration=args.duration,
+        path = animate(config, None, args.output, fps=args.fps, duration=args.duration,
                        speed=args.speed, overwrite=args.overwrite, progress=not args.quiet)
     except ConfigError:
         raise
@@ -94,12 +94,12 @@ def register_cli(subparsers, add_config_args):
 
     p = subparsers.add_parser(
         "animate", help="animate the mechanism (GIF, or MP4 with ffmpeg)",
-        description="Simulate a configuration and animate the crank, the flexible link (deflection "
-                    "magnified), the collar on its vertical guide and the slider.")
+        description="Simulate a configuration and animate it in two views, each to scale: the "
+                    "mechanism in its plane (crank, link, collar on its vertical guide, slider; X, Y "
+                    "in m), and the link in its own frame (deflection u2 in mm along x in m, the "
+                    "collar faces at +-H/2).")
     add_config_args(p)
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="animation file, .gif or .mp4")
-    p.add_argument("--scale", type=float, default=50.0, metavar="FACTOR",
-                   help="magnification of the deflection and clearance (default 50)")
     p.add_argument("--fps", type=int, default=20, metavar="N", help="frames per second (default 20)")
     p.add_argument("--duration", type=float, default=0.4, metavar="S",
                    help="simulated time shown [s] (default 0.4 s, two crank turns)")

@@ -42,7 +42,7 @@ from .response import (
     plot_pressure_surface,
 )
 from .studies import figure_errata, figure_first_impact_map, figure_lubrication_effect, figure_modal_convergence
-from .mechanism import animate_mechanism, draw_mechanism
+from .mechanism import animate_mechanism, draw_link_view, draw_mechanism
 
 __all__ = [
     "STYLE",
@@ -62,5 +62,6 @@ __all__ = [
     "figure_lubrication_effect",
     "figure_first_impact_map",
     "draw_mechanism",
+    "draw_link_view",
     "animate_mechanism",
 ]

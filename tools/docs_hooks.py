@@ -1,0 +1,134 @@
+"""MkDocs hooks of the documentation site (mkdocs.yml): the home page and the gallery.
+
+* ``index.md`` is generated from README.md, its links into docs/ made relative to the site.
+* ``gallery/``: every ``examples/*.py`` is run at build time, in a temporary folder, with this
+  source tree first on ``PYTHONPATH``; its page shows the docstring, the source, what it printed
+  and the images it wrote. An example that fails fails the build. ``examples/*.toml`` (sweep
+  files) are shown with the command that runs them, not run. ``LUBELINK_DOCS_EXECUTE=0`` builds
+  the gallery without running the examples (the pages say so).
+* API pages: the reST roles of the docstrings (``:func:`x```) are shown as plain code.
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from mkdocs.structure.files import File
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+TIMEOUT = 1800  # [s] per example; the first run compiles the kernels it needs
+IMAGE_SUFFIXES = (".png", ".gif", ".svg")
+
+
+def _execute() -> bool:
+    return os.environ.get("LUBELINK_DOCS_EXECUTE", "1") not in ("0", "false", "no")
+
+
+# --- home page ---------------------------------------------------------------------------------------
+_LINK = re.compile(r"(!?)\[([^\]]*)\]\(([^)\s]+)\)")
+
+
+def _site_link(match):
+    bang, text, target = match.groups()
+    if re.match(r"[a-z]+://|#|mailto:", target):
+        return match.group(0)
+    if target.startswith("docs/"):
+        return f"{bang}[{text}]({target[len('docs/'):]})"
+    # a file of the repository outside the site: name it, do not link it
+    return f"{text} (`{target}`)" if not bang else f"`{target}`"
+
+
+def readme_as_index(text: str) -> str:
+    """README.md with its links into docs/ relative to the site and other repository links named."""
+    return _LINK.sub(_site_link, text)
+
+
+# --- gallery -----------------------------------------------------------------------------------------
+def run_example(path: Path, timeout: float = TIMEOUT):
+    """Run ``path`` in a temporary folder; ``(stdout, {image name: bytes}, seconds)``; raises on failure."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src")] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    env.setdefault("MPLBACKEND", "Agg")
+    with tempfile.TemporaryDirectory(prefix="lubelink-gallery-") as tmp:
+        start = time.perf_counter()
+        proc = subprocess.run([sys.executable, str(path)], cwd=tmp, env=env, capture_output=True, text=True,
+                              timeout=timeout)
+        seconds = time.perf_counter() - start
+        if proc.returncode != 0:
+            raise RuntimeError(f"gallery: examples/{path.name} failed (exit {proc.returncode}):\n"
+                               f"{proc.stdout[-2000:]}\n{proc.stderr[-4000:]}")
+        images = {p.name: p.read_bytes() for p in sorted(Path(tmp).iterdir()) if p.suffix in IMAGE_SUFFIXES}
+    return proc.stdout, images, seconds
+
+
+def _title_and_body(doc: str, fallback: str):
+    lines = (doc or "").strip().splitlines()
+    if not lines:
+        return fallback, ""
+    return lines[0].rstrip("."), "\n".join(lines[1:]).strip()
+
+
+def example_page(path: Path, execute: bool):
+    """``(markdown, {image name: bytes})`` of the gallery page of one example script."""
+    source = path.read_text(encoding="utf-8")
+    title, body = _title_and_body(ast.get_docstring(ast.parse(source)), path.stem)
+    parts = [f"# {title}", "", f"`examples/{path.name}`", "", body, "", "```python", source.rstrip(), "```", ""]
+    images = {}
+    if execute:
+        out, images, seconds = run_example(path)
+        parts += [f"Output (run when this site was built, {seconds:.1f} s including compilation):", "",
+                  "```text", out.rstrip() or "(no output)", "```", ""]
+        parts += [f"![{name}]({path.stem}-{name})" for name in images]
+    else:
+        parts += ["*Not run when this site was built (`LUBELINK_DOCS_EXECUTE=0`).*", ""]
+    return "\n".join(parts) + "\n", {f"{path.stem}-{name}": data for name, data in images.items()}
+
+
+def gallery_index(scripts, tomls) -> str:
+    parts = ["# Gallery", "",
+             "The scripts of `examples/`, run when this site was built (the test suite runs them too,",
+             "`tests/test_examples.py`). Run one yourself with `python examples/NAME.py`.", ""]
+    for path in scripts:
+        title, _ = _title_and_body(ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))), path.stem)
+        parts.append(f"* [{title}]({path.stem}.md) (`examples/{path.name}`)")
+    if tomls:
+        parts += ["", "## Sweep files", "",
+                  "Parameter sweeps ([guide](../sweeps.md)); not run here, since a sweep takes minutes on all cores.",
+                  ""]
+        for path in tomls:
+            parts += [f"### `examples/{path.name}`", "", f"`lubelink sweep examples/{path.name}`", "",
+                      "```toml", path.read_text(encoding="utf-8").rstrip(), "```", ""]
+    return "\n".join(parts) + "\n"
+
+
+# --- MkDocs events -----------------------------------------------------------------------------------
+def on_files(files, config):
+    files.append(File.generated(config, "index.md",
+                                content=readme_as_index((ROOT / "README.md").read_text(encoding="utf-8"))))
+    scripts = sorted(EXAMPLES.glob("*.py"))
+    tomls = sorted(EXAMPLES.glob("*.toml"))
+    execute = _execute()
+    for path in scripts:
+        page, images = example_page(path, execute)
+        files.append(File.generated(config, f"gallery/{path.stem}.md", content=page))
+        for name, data in images.items():
+            files.append(File.generated(config, f"gallery/{name}", content=data))
+    files.append(File.generated(config, "gallery/index.md", content=gallery_index(scripts, tomls)))
+    return files
+
+
+_ROLE = re.compile(r":(?:py:)?(?:func|class|mod|meth|data|attr|exc|obj):(?=<code>)")
+
+
+def on_page_content(html, page, config, files):
+    """Docstrings cross-reference with reST roles; show them as plain code."""
+    html = _ROLE.sub("", html)
+    return re.sub(r"<code>~(?=[A-Za-z_])", "<code>", html)
