@@ -32,6 +32,7 @@ from .force import (COS, SIN, VERS, PadTables, film_force_many, gauss_legendre, 
                     modal_force, pad_tables, resultant_force)
 from .pressure import (film_thickness, mode_film, mode_film_rate, pad_pressure, pad_pressure_many, pressure,
                        pressure_on_breaks, pressure_points)
+from .reynolds2d import pressure_2d, reynolds_2d_system
 from .width import ONE_D, SHORT, TWO_D, centre_pressure_many, width_film, width_pressure, width_sines
 from .reynolds import (CENTRE, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE, WEDGE_SQUEEZE, pad_start,
                        pressure_gradient, reynolds_cavitation, reynolds_constant)
@@ -57,6 +58,8 @@ __all__ = [
     "film_thickness",
     "mode_film",
     "mode_film_rate",
+    "pressure_2d",
+    "reynolds_2d_system",
     "width_film",
     "width_pressure",
     "centre_pressure_many",
