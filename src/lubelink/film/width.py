@@ -107,7 +107,7 @@ def width_film(grid, xi_mid, xi_t, V_r, mu, B, reynolds, modes, cavitation, p_ca
     zsin : ndarray or None
         :func:`width_sines` (the 2-D film clipped by half-Sommerfeld), else None.
     P, pc : ndarray, shape ``(G,)``
-        Written; zero at the pad ends.
+        Written; zero at the pad ends, except for the short film, whose closed form ignores them.
     """
     G = grid.shape[0]
     h = grid[1] - grid[0]
@@ -116,10 +116,11 @@ def width_film(grid, xi_mid, xi_t, V_r, mu, B, reynolds, modes, cavitation, p_ca
     P[G - 1] = 0.0
     pc[0] = 0.0
     pc[G - 1] = 0.0
-    if reynolds == SHORT:
-        for i in range(1, G - 1):
-            xi = 0.5 * (xi_mid[i - 1] + xi_mid[i])
-            R = 6.0 * mu * V_r * (xi_mid[i] - xi_mid[i - 1]) / h + 12.0 * mu * xi_t[i]
+    if reynolds == SHORT:  # the closed form holds up to the pad ends (it ignores them)
+        for i in range(G):
+            j = min(max(i, 1), G - 2)  # the ends: the film extrapolated, its slope one-sided
+            xi = 0.5 * (xi_mid[j - 1] + xi_mid[j]) + (i - j) * (xi_mid[j] - xi_mid[j - 1])
+            R = 6.0 * mu * V_r * (xi_mid[j] - xi_mid[j - 1]) / h + 12.0 * mu * xi_t[i]
             P[i], pc[i] = _short_line(0.5 * R / (xi * xi * xi), B, cavitation, p_cav)
         return
     a = np.empty(G - 1)  # xi^3 / h^2 at the midpoints
@@ -182,8 +183,8 @@ def film_on_grid(side, q, q_dot, s0, c0, f, grid_trig, xi_mid, xi_t):
 def width_side(side, q, q_dot, ws, V_r, f, B, grid_trig, zsin, F):
     """Modal forces of the finite-width film on ``side`` added to ``F`` [N]; returns its resultant along +j [N].
 
-    ``F_n = -side int_0^l P(X) sin(beta_n (x0 + X)) dX`` by the trapezoidal rule on the pad grid
-    (``P = 0`` at the ends); ``ws`` holds ``sin``, ``cos(beta_n x0)`` in its first ``2 N``
+    ``F_n = -side int_0^l P(X) sin(beta_n (x0 + X)) dX`` by the trapezoidal rule on the pad grid;
+    ``ws`` holds ``sin``, ``cos(beta_n x0)`` in its first ``2 N``
     entries. ``grid_trig`` None (the 1-D film) compiles to nothing.
     """
     if grid_trig is None:
@@ -199,6 +200,8 @@ def width_side(side, q, q_dot, ws, V_r, f, B, grid_trig, zsin, F):
     pc = np.empty(G)
     width_film(grid, xi_mid, xi_t, V_r, f.viscosity, B, f.reynolds, f.width_modes, f.cavitation,
                f.cavitation_pressure - f.ambient_pressure, zsin, P, pc)
+    P[0] *= 0.5  # trapezoidal weights
+    P[G - 1] *= 0.5
     total = 0.0
     for k in range(G):
         total += h * P[k]
