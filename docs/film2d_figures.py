@@ -34,10 +34,11 @@ def _save(fig, path):
     print(f"wrote {path}")
 
 
-def paper_film(ds):
-    """The film ``xi(X)`` [m], its rate [m/s] and ``V_r`` [m/s] of ``ds`` (a ``paper`` run) at its peak film force."""
+def paper_film(ds, suction=False):
+    """The film ``xi(X)`` [m], its rate [m/s] and ``V_r`` [m/s] of ``ds`` (a ``paper`` run) at its peak film
+    force, or (``suction``) where its pressure is lowest."""
     cfg = lubelink.results.config_of(ds)
-    i = int(np.argmax(np.abs(ds.film_force.values)))
+    i = int(np.argmin(ds.pressure.values.min(axis=1)) if suction else np.argmax(np.abs(ds.film_force.values)))
     q, q_dot = ds.q.values[i], ds.q_dot.values[i]
     x0, V_r = float(ds.x_star.values[i]), float(ds.V_r.values[i])
     beta = np.arange(1, q.size + 1) * np.pi / cfg.mechanism.rod_length
@@ -52,14 +53,18 @@ def paper_film(ds):
     return xi, xi_t, V_r, float(ds.time.values[i]), cfg
 
 
-def maps(xi, xi_t, V_r, cfg, out):
+def maps(ds, out):
     import matplotlib.pyplot as plt
 
+    peak, suction = paper_film(ds), paper_film(ds, suction=True)
+    cfg = peak[4]
     l, mu = cfg.film.pad_length, cfg.film.viscosity
-    cases = [(0.2, "none"), (1.0, "none"), (5.0, "none"), (1.0, "reynolds")]
-    fig, axes = plt.subplots(1, len(cases), figsize=(15, 3.6), constrained_layout=True)
+    print(f"maps: peak force at t = {peak[3]:.4f} s, lowest pressure at t = {suction[3]:.4f} s")
+    cases = [(0.2, "none", peak), (1.0, "none", peak), (5.0, "none", peak), (1.0, "none", suction),
+             (1.0, "reynolds", suction)]
+    fig, axes = plt.subplots(1, len(cases), figsize=(19, 3.6), constrained_layout=True)
     X = np.linspace(0, l, 161)
-    for ax, (ratio, cav) in zip(axes, cases):
+    for ax, (ratio, cav, (xi, xi_t, V_r, t, _)) in zip(axes, cases):
         B = ratio * l
         Z = np.linspace(-B / 2, B / 2, 81)
         p = pressure_2d(X, Z, xi(X)[:, None], V_r, mu, xi_t=xi_t(X)[:, None], cavitation=cav, p_cav=-2e3)
@@ -69,8 +74,8 @@ def maps(xi, xi_t, V_r, cfg, out):
         ax.set_aspect("equal" if ratio <= 1 else "auto")
         ax.set_xlabel("X [mm]")
         ax.set_ylabel("Z [mm]")
-        ax.set_title(f"B/l = {ratio:g}" + (", Swift-Stieber, p_cav = -2 kPa" if cav == "reynolds" else ""),
-                     fontsize=9)
+        ax.set_title(f"t = {t:.4f} s, B/l = {ratio:g}" + (", Swift-Stieber" if cav == "reynolds"
+                                                          else ""), fontsize=9)
         fig.colorbar(im, ax=ax, label="gauge pressure [Pa]", shrink=0.8)
     _save(fig, out / "film2d-maps.png")
     plt.close(fig)
@@ -166,7 +171,7 @@ def main(argv):
     xi, xi_t, V_r, t, cfg = paper_film(ds)
     print(f"film of the wedge+squeeze paper run at t = {t:.4f} s (peak film force), V_r = {V_r:.4f} m/s, "
           f"xi from {xi(np.linspace(0, cfg.film.pad_length, 101)).min() * 1e3:.4f} mm")
-    maps(xi, xi_t, V_r, cfg, out)
+    maps(ds, out)
     ratios, force = force_over_width(xi, xi_t, V_r, cfg, out)
     print("\n| B / l | 1-D [N] | short [N] | 2-D [N] | 2-D / 1-D |")
     print("|---|---|---|---|---|")
