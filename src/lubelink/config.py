@@ -140,6 +140,9 @@ RULES = {
         "cavitation": _choice(CHOICES["film.cavitation"]),
         "cavitation_pressure": _num(0, 1e9),
         "grid_points": _num(11, 100001, integer=True),
+        "reynolds": _choice(CHOICES["film.reynolds"]),
+        "width_modes": _num(1, 200, integer=True),
+        "width_points": _num(4, 4096, integer=True),
     },
     "collar": {"mass": _num(0, 1e6)},
     "contact": {
@@ -240,6 +243,12 @@ def validate(config: Config) -> Config:
     if fm.cavitation != "none" and fm.cavitation_pressure > fm.ambient_pressure:
         problems.append(f"film.cavitation_pressure = {fm.cavitation_pressure}: must not exceed "
                         f"film.ambient_pressure = {fm.ambient_pressure}")
+    if fm.enabled and fm.reynolds == "2d" and fm.cavitation == "reynolds":
+        problems.append("film.cavitation = 'reynolds': not available with film.reynolds = '2d' (the 2-D film "
+                        "is solved by a sine series across the width, which cannot hold the Swift-Stieber "
+                        "condition); use film.cavitation = 'half-sommerfeld', or film.reynolds = 'short' "
+                        "(Swift-Stieber across the width) or '1d'; lubelink.film.pressure_2d solves one 2-D "
+                        "film with it")
     if fm.model == "wedge+squeeze" and ct.min_film <= 0.0:
         problems.append(f"contact.min_film = {ct.min_film}: must be > 0 with film.model = 'wedge+squeeze' "
                         "(a squeeze film never closes in finite time)")

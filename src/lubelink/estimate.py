@@ -43,6 +43,9 @@ STEPS_PER_SECOND = 250.0
 EVAL_BASE, EVAL_PER_MODE_NODE = 0.8e-6, 0.004e-6
 #: Seconds per point of the Reynolds cavitation grid per evaluation.
 EVAL_PER_GRID_POINT = 0.035e-6
+#: Seconds per pad grid point and sine term across the width (``film.reynolds = "2d"``) per evaluation,
+#: and per grid point, term and point across the width when that film is clipped (half-Sommerfeld).
+EVAL_PER_WIDTH_TERM, EVAL_PER_WIDTH_CLIP = 0.01e-6, 0.001e-6
 #: Seconds added per evaluation and per step by SciPy's methods (run as Python).
 SCIPY_PER_EVAL, SCIPY_PER_STEP = 40e-6, 100e-6
 #: Factor of the ``numpy`` backend (the same source run as Python) on a compiled evaluation.
@@ -103,7 +106,11 @@ def run_cost(config) -> Estimate:
     steps, why_steps = max(floors, key=lambda f: f[0])
 
     per_eval = EVAL_BASE + EVAL_PER_MODE_NODE * n_nodes
-    if fm.enabled and fm.cavitation == "reynolds":
+    if fm.enabled and fm.reynolds == "2d":
+        per_eval += EVAL_PER_WIDTH_TERM * fm.grid_points * fm.width_modes * fm.sides
+        if fm.cavitation == "half-sommerfeld":
+            per_eval += EVAL_PER_WIDTH_CLIP * fm.grid_points * fm.width_modes * fm.width_points * fm.sides
+    elif fm.enabled and (fm.cavitation == "reynolds" or fm.reynolds == "short"):
         per_eval += EVAL_PER_GRID_POINT * fm.grid_points * fm.sides
     if s.backend == "numpy":
         per_eval *= NUMPY_FACTOR

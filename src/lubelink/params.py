@@ -36,6 +36,7 @@ CHOICES = {
     "film.model": ("none", "wedge", "wedge+squeeze"),
     "film.pad_reference": ("edge", "centre"),
     "film.cavitation": ("none", "half-sommerfeld", "reynolds"),
+    "film.reynolds": ("1d", "2d", "short"),
     "contact.law": ("none", "restitution", "compliant"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
     "solver.method": ("auto", "exponential", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
@@ -142,7 +143,17 @@ class Film:
     cavitation_pressure : float
         Absolute cavitation pressure [Pa] (``p_cav``).
     grid_points : int
-        Grid points on the pad for the ``"reynolds"`` cavitation solver [-].
+        Grid points on the pad for the ``"reynolds"`` cavitation solver and for the
+        ``"2d"`` and ``"short"`` films [-].
+    reynolds : str
+        ``"1d"``: the paper's film averaged across the width (long-bearing limit);
+        ``"2d"``: the 2-D Reynolds equation on the pad, ambient at all four edges, by a
+        sine series across the width (:mod:`lubelink.film.width`); ``"short"``: the
+        short-bearing closed form (the flow along the pad neglected).
+    width_modes : int
+        Odd sine terms across the width of the ``"2d"`` film [-].
+    width_points : int
+        Points across the width where the ``"2d"`` film is clipped (half-Sommerfeld) [-].
     """
 
     model: str = "wedge"
@@ -156,6 +167,9 @@ class Film:
     cavitation: str = "none"
     cavitation_pressure: float = 0.0
     grid_points: int = 201
+    reynolds: str = "1d"
+    width_modes: int = 8
+    width_points: int = 32
 
     @property
     def enabled(self) -> bool:

@@ -48,7 +48,8 @@ VARIABLES = {
     "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
     "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
     "film_min": Variable(("time",), "m", "thinnest film on the pad"),
-    "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's)"),
+    "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
+                         "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
     "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
     "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
     "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
@@ -173,11 +174,19 @@ def collect(result, variables=None) -> Results:
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
         coords["X"] = _entry("X", X)
-        tables = film.pressure_points(X, N, L, PRESSURE_NODES, fm.grid_points if fm.cavitation == "reynolds" else 0)
-        pressure = _select(film.pad_pressure_many, compiled)
-        for side, name in zip(model.sides, ("pressure", "pressure_lower")):
-            if name in want:
-                data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
+        if fm.reynolds == "1d":
+            tables = film.pressure_points(X, N, L, PRESSURE_NODES,
+                                          fm.grid_points if fm.cavitation == "reynolds" else 0)
+            pressure = _select(film.pad_pressure_many, compiled)
+            for side, name in zip(model.sides, ("pressure", "pressure_lower")):
+                if name in want:
+                    data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
+        else:  # the finite-width film: its centre line Z = 0
+            pressure = _select(film.centre_pressure_many, compiled)
+            for side, name in zip(model.sides, ("pressure", "pressure_lower")):
+                if name in want:
+                    data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, p.beam.width,
+                                                       L, p.pad.grid_trig, p.pad.zsin))
         if "film_force" in want:
             force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
             data["film_force"] = _entry("film_force", force)

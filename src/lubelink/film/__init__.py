@@ -22,12 +22,18 @@ Gauss-Legendre pass over the pad gives the modal forces (:func:`modal_film_force
 itself is the running integral of ``p_g'`` (half-Sommerfeld cavitation, the pressure output).
 The Swift-Stieber (Reynolds) cavitation condition is an obstacle problem solved on a pad grid
 (:func:`reynolds_cavitation`).
+
+The film of finite width (``film.reynolds = "2d"`` or ``"short"``): :mod:`.width` (sine series
+across the width, the short-bearing closed form), what the right-hand side executes;
+:func:`pressure_2d` the 2-D Reynolds equation for any film ``xi(X, Z)``.
 """
 
 from .force import (COS, SIN, VERS, PadTables, film_force_many, gauss_legendre, integration_matrix, modal_film_force,
                     modal_force, pad_tables, resultant_force)
 from .pressure import (film_thickness, mode_film, mode_film_rate, pad_pressure, pad_pressure_many, pressure,
                        pressure_on_breaks, pressure_points)
+from .reynolds2d import pressure_2d, reynolds_2d_system
+from .width import ONE_D, SHORT, TWO_D, centre_pressure_many, width_film, width_pressure, width_sines
 from .reynolds import (CENTRE, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE, WEDGE_SQUEEZE, pad_start,
                        pressure_gradient, reynolds_cavitation, reynolds_constant)
 
@@ -52,4 +58,10 @@ __all__ = [
     "film_thickness",
     "mode_film",
     "mode_film_rate",
+    "pressure_2d",
+    "reynolds_2d_system",
+    "width_film",
+    "width_pressure",
+    "centre_pressure_many",
+    "width_sines",
 ]

@@ -14,8 +14,9 @@ import numpy as np
 
 from .._jit import jitable, kernel
 from ..params import Film, kernel_view
-from .reynolds import (CENTRE, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE, WEDGE_SQUEEZE, pad_start,  # noqa: F401
-                       pressure_gradient, reynolds_cavitation, reynolds_constant)
+from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
+                       WEDGE_SQUEEZE, pad_start, pressure_gradient, reynolds_cavitation, reynolds_constant)
+from .width import ONE_D, width_side, width_sines
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
            "modal_force", "resultant_force", "SIN", "COS", "VERS"]
@@ -32,7 +33,9 @@ class PadTables(NamedTuple):
     ``S`` [m], the spectral integration matrix on the nodes (half-Sommerfeld); ``grid_trig``
     (4, N, G), ``sin``, ``cos`` at the points of the uniform grid and at its ``G - 1`` cell
     midpoints (Reynolds). A None table has another type in compiled code, so the kernels are
-    compiled for the options a configuration uses only. Few arrays, because every array of the
+    compiled for the options a configuration uses only. ``grid_trig`` serves the finite-width
+    films too (``film.reynolds`` "2d", "short"), and ``zsin`` (K, W), the sines across the width
+    of :func:`~lubelink.film.width.width_sines`, the 2-D film clipped by half-Sommerfeld. Few arrays, because every array of the
     parameters costs a reference count at each call of the right-hand side.
     """
 
@@ -41,10 +44,7 @@ class PadTables(NamedTuple):
     sample_trig: np.ndarray
     S: np.ndarray | None
     grid_trig: np.ndarray | None
-
-
-#: Rows of :attr:`PadTables.trig` (and ``sample_trig``, ``grid_trig``: then ``+ 2`` for the midpoints).
-SIN, COS, VERS = 0, 1, 2
+    zsin: np.ndarray | None = None
 
 
 @lru_cache(maxsize=32)
@@ -82,16 +82,19 @@ def pad_tables(modes, rod_length, film: Film) -> PadTables:
     X = l * s
     sin_bX, cos_bX = _tables(beta, X)
     vers_bX = 2.0 * np.sin(0.5 * np.outer(beta, X)) ** 2  # 1 - cos without cancellation
-    S = grid_trig = None
-    if film.cavitation == "half-sommerfeld":
+    S = grid_trig = zsin = None
+    if film.reynolds != "1d":
+        if film.reynolds == "2d" and film.cavitation == "half-sommerfeld":
+            zsin = width_sines(film.width_modes, film.width_points)
+    elif film.cavitation == "half-sommerfeld":
         S = _c(l * integration_matrix(film.quadrature_nodes))
-    elif film.cavitation == "reynolds":
+    if film.cavitation == "reynolds" or film.reynolds != "1d":
         grid = np.linspace(0.0, l, film.grid_points)
         mid = np.append(0.5 * (grid[1:] + grid[:-1]), l)  # the last column is not used
         grid_trig = _c(np.stack(_tables(beta, grid) + _tables(beta, mid)))
     samples = np.linspace(0.0, l, 16 + 4 * modes)
     return PadTables(_c(np.stack([X, l * w])), _c(np.stack([sin_bX, cos_bX, vers_bX])),
-                     _c(np.stack(_tables(beta, samples))), S, grid_trig)
+                     _c(np.stack(_tables(beta, samples))), S, grid_trig, zsin)
 
 
 def _c(a):
@@ -172,6 +175,8 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     array costs two atomic reference-count updates in compiled code, which here would cost more
     than the arithmetic.)
     """
+    if f.reynolds != ONE_D:
+        return width_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, pad.zsin, F)
     if f.cavitation == REYNOLDS:
         return _reynolds_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, F)
     N = q.shape[0]

@@ -19,6 +19,10 @@ FULL, HALF_SOMMERFELD, REYNOLDS = (CHOICES["film.cavitation"].index(v)
                                    for v in ("none", "half-sommerfeld", "reynolds"))
 CENTRE = CHOICES["film.pad_reference"].index("centre")
 
+#: Rows of the pad tables :attr:`~lubelink.film.force.PadTables.trig` (and ``sample_trig``,
+#: ``grid_trig``: then ``+ 2`` for the midpoints).
+SIN, COS, VERS = 0, 1, 2
+
 
 @jitable
 def pad_start(x_star, pad_length, pad_reference):
