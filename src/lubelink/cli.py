@@ -12,7 +12,7 @@ import importlib
 import sys
 from pathlib import Path
 
-from .errors import Terminated, UsageError, exit_status, interrupted, suggest
+from .errors import BackendError, Terminated, UsageError, exit_status, interrupted, suggest
 
 __all__ = ["main", "resolve_args", "UsageError"]
 
@@ -306,7 +306,7 @@ def main(argv=None):
         for problem in exc.problems:
             print(f"lubelink: error: {problem}", file=sys.stderr)
         return 2
-    except UsageError as exc:
+    except (UsageError, BackendError) as exc:
         print(f"lubelink: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
