@@ -20,7 +20,7 @@ EPILOG = """examples:
   lubelink run                                  the paper's slider-crank (scenario 'paper')
   lubelink run --scenario paper-impact -o impact.nc
   lubelink run my.toml --set beam.modes=5 --set film.viscosity=0.2
-  lubelink config --scenario paper-dry          print the full configuration as TOML
+  lubelink config --scenario paper-dry          print the full configuration as commented TOML
 """
 
 
@@ -69,9 +69,10 @@ def build_parser():
     p.add_argument("--no-output", action="store_true", help="do not write a results file")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
 
-    p = sub.add_parser("config", help="print the resolved configuration as TOML",
-                       description="Validate a configuration and print it in full as TOML "
-                                   "(a starting point for your own file).")
+    p = sub.add_parser("config", help="print the resolved configuration as commented TOML",
+                       description="Validate a configuration and print it in full as TOML, each key with a "
+                                   "comment giving its symbol, unit, meaning and valid values (a starting point "
+                                   "for your own file; it loads back to the same configuration).")
     _add_config_args(p)
 
     sub.add_parser("scenarios", help="list the built-in scenarios", description="List the built-in scenarios.")
@@ -262,10 +263,11 @@ def _cmd_run(args):
 
 
 def _cmd_config(args):
-    from .config import to_toml
+    from .config import SCENARIOS
+    from .template import template
 
-    _, config = resolve_args(args)
-    sys.stdout.write(to_toml(config))
+    source, config = resolve_args(args)
+    sys.stdout.write(template(config, scenario=source if source in SCENARIOS else None))
     return 0
 
 
