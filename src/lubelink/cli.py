@@ -220,6 +220,16 @@ def _reason(exc):
     return f"{type(exc).__name__}: {exc}"
 
 
+#: A run shorter than this [s] shows no progress line.
+PROGRESS_DELAY = 0.5
+
+
+def _nothing():
+    import contextlib
+
+    return contextlib.nullcontext()
+
+
 def _cmd_run(args):
     import time
 
@@ -237,23 +247,19 @@ def _cmd_run(args):
         if problem:
             raise UsageError(f"-o {path}: {problem}")
     _warn_cost(config)
-    if args.quiet or not sys.stderr.isatty():
-        result = run(config)
-    else:
-        from tqdm.auto import tqdm
+    from .progress import Progress, on_terminal
 
-        with tqdm(total=config.solver.t_end, unit="s", desc="simulating", delay=0.5, leave=False,
-                  bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]",
-                  file=sys.stderr) as bar:
-            def report(t):
-                if t - bar.n >= 0.005 * bar.total:
-                    bar.update(t - bar.n)
-
-            result = run(config, progress=report)
-    results = collect(result)
-    failure = None
-    if path is not None:
-        path, failure = _write_results(results, path, args.overwrite)
+    show = not args.quiet and on_terminal(sys.stderr)  # never into a redirected log
+    with Progress(config.solver.t_end, sys.stderr, delay=PROGRESS_DELAY) if show else _nothing() as bar:
+        result = run(config, progress=bar.update if show else None)
+        if show:
+            bar.phase("sampling the results")
+        results = collect(result)
+        failure = None
+        if path is not None:
+            if show:
+                bar.phase(f"writing {path.name}")
+            path, failure = _write_results(results, path, args.overwrite)
     if not args.quiet:
         print(_summary(results, source, path, time.perf_counter() - began))
     if failure:
