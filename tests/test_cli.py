@@ -239,7 +239,7 @@ def test_sigterm_during_a_run_is_a_clean_exit_143(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("umask", [0o002, 0o077])
+@pytest.mark.parametrize("umask", [0o002, 0o022, 0o077])
 def test_results_files_honour_the_umask(tmp_path, umask):
     import os
     import stat

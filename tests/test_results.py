@@ -209,3 +209,19 @@ def test_units_of_the_registry_are_dimensionally_right():
     for name, v in VARIABLES.items():
         assert v.units in kinds, (name, v.units)
         assert cf_units.Unit(v.units).is_convertible(cf_units.Unit(kinds[v.units])), name
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o077])
+def test_both_writers_honour_the_umask(impact_results, tmp_path, umask):
+    """Issue 16 item 4: the mode of a new results file is what the umask asks, whichever writer."""
+    import os
+    import stat
+
+    old = os.umask(umask)
+    try:
+        paths = _both_writers(impact_results, tmp_path)
+    finally:
+        os.umask(old)
+    for path in paths:
+        assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask, path
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["netcdf4.nc", "xarray.nc"]  # no temporary left
