@@ -97,10 +97,11 @@ def draw(results, modes_list, path):
     fig.suptitle("Work-precision: rtol = 10 atol from 1e-5 to 1e-10; circled: the default (1e-8); "
                  "x: stopped early", fontsize=9)
     fig.tight_layout()
+    from lubelink._files import atomic_path
+
     path = Path(path)
-    tmp = path.with_suffix(".part.png")
-    fig.savefig(tmp, dpi=110)
-    tmp.replace(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     print(f"\nwrote {path}")
 
 

@@ -259,7 +259,7 @@ def test_sigterm_during_a_run_is_a_clean_exit_143(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("umask", [0o002, 0o077])
+@pytest.mark.parametrize("umask", [0o002, 0o022, 0o077])
 def test_results_files_honour_the_umask(tmp_path, umask):
     import os
     import stat
@@ -269,3 +269,53 @@ def test_results_files_honour_the_umask(tmp_path, umask):
                        timeout=300)
     assert r.returncode == 0, r.stderr
     assert stat.S_IMODE(os.stat(tmp_path / "r.nc").st_mode) == 0o666 & ~umask
+
+
+# ====================================================================== issue 16 item 2: backends
+def test_a_backend_that_cannot_run_is_status_2_naming_the_setting(tmp_path):
+    """Numba absent (here: disabled): ``backend = "numba"`` is refused in one line, ``"auto"``
+    runs on NumPy and says why in the summary's solver line."""
+    import os
+
+    env = {**os.environ, "LUBELINK_DISABLE_JIT": "1"}
+    r = subprocess.run([sys.executable, "-m", "lubelink", "run", "--no-output", "--set", "solver.backend='numba'",
+                        "--set", "film.cavitation='reynolds'"], capture_output=True, text=True, env=env,
+                       cwd=tmp_path, timeout=300)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines() == [
+        "lubelink: error: solver.backend = 'numba': not available, LUBELINK_DISABLE_JIT is set; "
+        "use solver.backend = 'auto' or 'numpy'"]
+    r = subprocess.run([sys.executable, "-m", "lubelink", "run", "--no-output", "--set", "solver.t_end=0.02",
+                        "--set", "output.x_points=5"], capture_output=True, text=True, env=env, cwd=tmp_path,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr
+    solver = next(line for line in r.stdout.splitlines() if line.startswith("solver"))
+    assert solver.endswith("backend numpy (compiled path not used: LUBELINK_DISABLE_JIT is set)"), solver
+
+
+@pytest.mark.parametrize("backend", ["numba", "auto"])
+def test_a_compile_failure_is_status_2_with_numba_and_a_named_fallback_with_auto(backend, monkeypatch, capsys):
+    from numba.core.errors import TypingError
+
+    from lubelink import integrate
+    from lubelink.cli import main
+
+    real = integrate.integrate
+
+    def failing(*args, compiled=False, **kwargs):
+        if compiled:
+            raise TypingError("a kernel that does not type")
+        return real(*args, compiled=compiled, **kwargs)
+
+    monkeypatch.setattr(integrate, "integrate", failing)
+    args = ["run", "--no-output", "--set", f"solver.backend='{backend}'", "--set", "solver.t_end=0.02",
+            "--set", "output.x_points=5"]
+    if backend == "numba":
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("lubelink: error: solver.backend = 'numba': compiling the kernels failed "
+                              "(TypingError: ") and "Traceback" not in err
+    else:
+        with pytest.warns(RuntimeWarning, match="compiled path failed"):
+            assert main(args) == 0
+        assert "backend numpy (compile failed: TypingError)" in capsys.readouterr().out

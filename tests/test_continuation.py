@@ -129,7 +129,7 @@ def test_cli_continue_writes_the_branch_and_its_figure(tmp_path, capsys):
 
     ds = xr.load_dataset(out)
     assert ds.parameter.values[0] == 30 and ds.parameter.values[-1] == 31
-    assert ds.parameter.attrs["units"] == "rad/s" and ds.stable.all()
+    assert ds.parameter.attrs["units"] == "rad s-1" and ds.stable.all()
     assert main(["plot-branch", str(out), "-o", str(tmp_path / "c.png")]) == 0
     assert main(["continue", "--scenario", "paper-dry", "--to", "31", "-o", str(out)]) == 2  # exists
     assert main(["continue", "--scenario", "paper-dry", "--parameter", "beam.modez", "--to", "2",

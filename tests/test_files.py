@@ -161,3 +161,73 @@ def test_fallback_names_are_free_and_beside_the_target(tmp_path):
     assert other.parent == tmp_path and other.name.startswith("r.unsaved-") and other.suffix == ".nc"
     assert fallback_path("/proc/r.nc", folders=[tmp_path]).parent == tmp_path
     assert fallback_path("/proc/r.nc") is None
+
+
+# ====================================================================== issue 16 item 4: one helper for every output
+#: Calls that write a file: the method names, and for which the written path is the receiver
+#: (``tmp.write_text(...)``) rather than the first argument (``fig.savefig(tmp)``).
+WRITERS = {"savefig": "arg", "to_netcdf": "arg", "to_zarr": "arg", "savez": "arg", "savez_compressed": "arg",
+           "save": "arg", "write_text": "receiver", "write_bytes": "receiver", "touch": "receiver"}
+#: Writes that are not outputs published under their name, each with its reason.
+NOT_PUBLISHED = {
+    ("src/lubelink/sweep/store.py", "touch"): "the journal, created inside the store folder before it is published",
+    ("benchmarks/exudyn_rod.py", "savez"): "a worker's answer in a private temporary folder (its interpreter has "
+                                          "no lubelink)",
+}
+
+
+def _writes(tree):
+    """``(call, method name, written expression)`` of every file-writing call of a module."""
+    import ast
+
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        f = node.func
+        name = f.attr if isinstance(f, ast.Attribute) else f.id if isinstance(f, ast.Name) else None
+        if name == "Dataset" and len(node.args) >= 2 and isinstance(node.args[1], ast.Constant) \
+                and node.args[1].value in ("w", "a", "r+"):
+            yield node, "netCDF4.Dataset", node.args[0]
+        elif name == "open" and any(isinstance(a, ast.Constant) and isinstance(a.value, str) and
+                                    set(a.value) & set("wax+") for a in node.args[1:2]):
+            yield node, "open", node.args[0]
+        elif name in WRITERS and isinstance(f, ast.Attribute):
+            if name == "save" and isinstance(f.value, ast.Name) and f.value.id in ("lubelink", "results"):
+                continue  # lubelink.save is itself the atomic writer
+            target = f.value if WRITERS[name] == "receiver" else (node.args[0] if node.args else None)
+            if target is not None:
+                yield node, name, target
+
+
+def test_every_output_is_written_through_the_atomic_helper():
+    """Every call that writes a file in the package, the docs scripts, the benchmarks and the
+    examples writes to the temporary of an enclosing ``with atomic_path(...) as tmp`` (or of
+    results' ``_publishing``, which wraps it): the one helper that publishes atomically with the
+    umask's mode."""
+    import ast
+
+    root = Path(__file__).resolve().parent.parent
+    files = [*sorted((root / "src" / "lubelink").rglob("*.py")), *sorted((root / "docs").glob("*.py")),
+             *sorted((root / "benchmarks").glob("*.py")), *sorted((root / "examples").glob("*.py"))]
+    problems, checked = [], 0
+    for path in files:
+        rel = path.relative_to(root).as_posix()
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        temporaries = set()
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.With, ast.AsyncWith)):
+                for item in node.items:
+                    call = item.context_expr
+                    fn = call.func if isinstance(call, ast.Call) else None
+                    fname = getattr(fn, "attr", None) or getattr(fn, "id", None)
+                    if fname in ("atomic_path", "_publishing") and isinstance(item.optional_vars, ast.Name):
+                        temporaries.add(item.optional_vars.id)
+        for call, name, target in _writes(tree):
+            if (rel, name) in NOT_PUBLISHED:
+                continue
+            checked += 1
+            used = {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
+            if not used & temporaries:
+                problems.append(f"{rel}:{call.lineno}: {name} writes {ast.unparse(target)}, not an atomic_path temporary")
+    assert checked >= 10
+    assert not problems, "\n".join(problems)

@@ -240,7 +240,7 @@ def test_sweep_on_a_local_cluster_stores_every_point_once(reference):
     assert ds.sizes == {"film.viscosity": 2, "mechanism.crank_speed": 6, "film.clearance": 4, "time": 101}
     assert bool(ds.done.all())
     assert sorted(ends(trace)) == list(range(N))  # each point computed exactly once
-    assert ds["mechanism.crank_speed"].attrs["units"] == "rad/s" and ds.peak_pressure.attrs["units"] == "Pa"
+    assert ds["mechanism.crank_speed"].attrs["units"] == "rad s-1" and ds.peak_pressure.attrs["units"] == "Pa"
     assert ds["film.clearance"].attrs["scale"] == "log"
     again = run_sweep(folder / "sweep.toml", folder / "ref.zarr", progress=False, trace=trace)  # resume: nothing left
     assert sorted(ends(trace)) == list(range(N))

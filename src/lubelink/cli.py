@@ -12,7 +12,7 @@ import importlib
 import sys
 from pathlib import Path
 
-from .errors import Terminated, UsageError, exit_status, interrupted, suggest
+from .errors import BackendError, Terminated, UsageError, exit_status, interrupted, suggest
 
 __all__ = ["main", "resolve_args", "UsageError"]
 
@@ -20,7 +20,7 @@ EPILOG = """examples:
   lubelink run                                  the paper's slider-crank (scenario 'paper')
   lubelink run --scenario paper-impact -o impact.nc
   lubelink run my.toml --set beam.modes=5 --set film.viscosity=0.2
-  lubelink config --scenario paper-dry          print the full configuration as TOML
+  lubelink config --scenario paper-dry          print the full configuration as commented TOML
 """
 
 
@@ -69,9 +69,10 @@ def build_parser():
     p.add_argument("--no-output", action="store_true", help="do not write a results file")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
 
-    p = sub.add_parser("config", help="print the resolved configuration as TOML",
-                       description="Validate a configuration and print it in full as TOML "
-                                   "(a starting point for your own file).")
+    p = sub.add_parser("config", help="print the resolved configuration as commented TOML",
+                       description="Validate a configuration and print it in full as TOML, each key with a "
+                                   "comment giving its symbol, unit, meaning and valid values (a starting point "
+                                   "for your own file; it loads back to the same configuration).")
     _add_config_args(p)
 
     sub.add_parser("scenarios", help="list the built-in scenarios", description="List the built-in scenarios.")
@@ -235,6 +236,16 @@ def _reason(exc):
     return f"{type(exc).__name__}: {exc}"
 
 
+#: A run shorter than this [s] shows no progress line.
+PROGRESS_DELAY = 0.5
+
+
+def _nothing():
+    import contextlib
+
+    return contextlib.nullcontext()
+
+
 def _cmd_run(args):
     import time
 
@@ -252,23 +263,19 @@ def _cmd_run(args):
         if problem:
             raise UsageError(f"-o {path}: {problem}")
     _warn_cost(config)
-    if args.quiet or not sys.stderr.isatty():
-        result = run(config)
-    else:
-        from tqdm.auto import tqdm
+    from .progress import Progress, on_terminal
 
-        with tqdm(total=config.solver.t_end, unit="s", desc="simulating", delay=0.5, leave=False,
-                  bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}]",
-                  file=sys.stderr) as bar:
-            def report(t):
-                if t - bar.n >= 0.005 * bar.total:
-                    bar.update(t - bar.n)
-
-            result = run(config, progress=report)
-    results = collect(result)
-    failure = None
-    if path is not None:
-        path, failure = _write_results(results, path, args.overwrite)
+    show = not args.quiet and on_terminal(sys.stderr)  # never into a redirected log
+    with Progress(config.solver.t_end, sys.stderr, delay=PROGRESS_DELAY) if show else _nothing() as bar:
+        result = run(config, progress=bar.update if show else None)
+        if show:
+            bar.phase("sampling the results")
+        results = collect(result)
+        failure = None
+        if path is not None:
+            if show:
+                bar.phase(f"writing {path.name}")
+            path, failure = _write_results(results, path, args.overwrite)
     if not args.quiet:
         print(_summary(results, _source_label(source, args.overrides), path, time.perf_counter() - began))
     if failure:
@@ -278,10 +285,11 @@ def _cmd_run(args):
 
 
 def _cmd_config(args):
-    from .config import to_toml
+    from .config import SCENARIOS
+    from .template import template
 
-    _, config = resolve_args(args)
-    sys.stdout.write(to_toml(config))
+    source, config = resolve_args(args)
+    sys.stdout.write(template(config, scenario=source if source in SCENARIOS else None))
     return 0
 
 
@@ -322,7 +330,7 @@ def main(argv=None):
         for problem in exc.problems:
             print(f"lubelink: error: {problem}", file=sys.stderr)
         return 2
-    except UsageError as exc:
+    except (UsageError, BackendError) as exc:
         print(f"lubelink: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:

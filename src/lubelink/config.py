@@ -75,12 +75,20 @@ class ConfigError(ValueError):
 
 
 # ----------------------------------------------------------------- rules
+def _bound(v):
+    """A bound as rules show it: ``1e6`` for 1000000.0, otherwise as Python writes it."""
+    if isinstance(v, float) and v.is_integer() and abs(v) >= 1e4:
+        mantissa, exponent = f"{v:.6e}".split("e")
+        return f"{mantissa.rstrip('0').rstrip('.')}e{int(exponent)}"
+    return str(v)
+
+
 def _num(lo=None, hi=None, lo_open=False, hi_open=False, integer=False, allow_inf=False):
     """A rule for a number in an interval; returns (check, text)."""
     left = "(" if lo_open else "["
     right = ")" if hi_open else "]"
     kind = "an integer" if integer else "a number"
-    text = f"{kind} in {left}{'-inf' if lo is None else lo}, {'inf' if hi is None else hi}{right}"
+    text = f"{kind} in {left}{'-inf' if lo is None else _bound(lo)}, {'inf' if hi is None else _bound(hi)}{right}"
 
     def check(v):
         if isinstance(v, bool) or not isinstance(v, (int, float)):

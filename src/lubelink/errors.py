@@ -9,11 +9,16 @@ from __future__ import annotations
 
 import difflib
 
-__all__ = ["UsageError", "Terminated", "suggest", "exit_status", "interrupted"]
+__all__ = ["UsageError", "BackendError", "Terminated", "suggest", "exit_status", "interrupted"]
 
 
 class UsageError(Exception):
     """Bad command-line input, reported as one line per problem with status 2."""
+
+
+class BackendError(ValueError):
+    """``solver.backend`` asks for a backend that cannot run this configuration; the message names
+    the setting, why, and the alternative. The CLI reports it as one line with status 2."""
 
 
 class Terminated(KeyboardInterrupt):

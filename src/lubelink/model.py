@@ -29,6 +29,7 @@ import numpy as np
 
 from . import _jit, beam, contact, film
 from ._jit import jitable, kernel
+from .errors import BackendError
 from .kinematics import MotionTable, SliderCrank, motion_at
 from .params import CHOICES, Config, kernel_view
 
@@ -80,10 +81,6 @@ class Params(NamedTuple):
 
 
 NO_PHASE = ContactPhase(0.0, 0.0)
-
-
-class BackendError(ValueError):
-    """A backend was asked for that cannot run this configuration; names the setting."""
 
 
 # --- the right-hand side ----------------------------------------------------------------------------

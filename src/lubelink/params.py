@@ -27,6 +27,7 @@ __all__ = [
     "ModelOptions",
     "Config",
     "CHOICES",
+    "FIELDS",
     "kernel_view",
 ]
 
@@ -41,6 +42,56 @@ CHOICES = {
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
     "solver.method": ("auto", "exponential", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
     "solver.backend": ("auto", "numba", "numpy"),
+}
+
+
+#: Unit, symbol and a one-line summary of every field, by ``section.key``: what ``lubelink config``
+#: writes beside each key (with the valid values of :data:`lubelink.config.RULES`), and the units
+#: and names of swept parameters. Units are UDUNITS strings (``"1"``: dimensionless, ``""``: a
+#: choice); the symbols are those of docs/model.md.
+FIELDS = {
+    "mechanism.crank_length": ("m", "OA", "crank length; shorter than rod_length"),
+    "mechanism.rod_length": ("m", "L", "length of the flexible connecting rod"),
+    "mechanism.crank_speed": ("rad s-1", "omega0", "constant crank angular speed; non-zero"),
+    "mechanism.guide_distance": ("m", "a", "distance of the collar's guide from the crank pivot (the pad "
+                                           "must stay on the rod over a turn)"),
+    "mechanism.gravity": ("m s-2", "g", "gravity [g_X, g_Y], fixed frame; [0, -9.81]: vertical plane"),
+    "beam.youngs_modulus": ("Pa", "E", "Young's modulus"),
+    "beam.density": ("kg m-3", "rho", "mass density"),
+    "beam.width": ("m", "B", "section width, also the pad width"),
+    "beam.height": ("m", "h", "section height, in the plane of bending"),
+    "beam.modes": ("1", "N", "number of sine modes kept"),
+    "beam.damping_ratio": ("1", "zeta", "modal viscous damping ratio of every mode"),
+    "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
+    "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
+    "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),
+    "film.pad_length": ("m", "l", "length of the collar pad along the link"),
+    "film.pad_reference": ("", "", "x_star is the pad's edge (paper Eq. 20) or centre"),
+    "film.ambient_pressure": ("Pa", "p_am", "ambient pressure at the pad edges (matters for cavitation only)"),
+    "film.quadrature_nodes": ("1", "", "Gauss-Legendre nodes on the pad for the film integrals"),
+    "film.sides": ("1", "", "films: 1 on the +j side (paper), 2 a collar enclosing the link"),
+    "film.cavitation": ("", "", "none (paper), half-Sommerfeld, reynolds: Swift-Stieber"),
+    "film.cavitation_pressure": ("Pa", "p_cav", "absolute cavitation pressure; at most ambient_pressure"),
+    "film.grid_points": ("1", "", "pad grid points of the reynolds cavitation solver"),
+    "collar.mass": ("kg", "m_c", "mass of the collar and its guided member (joint reaction)"),
+    "contact.law": ("", "", "restitution: paper Eq. 21, compliant: Lankarani-Nikravesh"),
+    "contact.restitution": ("1", "e", "coefficient of restitution"),
+    "contact.min_film": ("m", "xi_min", "film thickness at which the film breaks down; below clearance / 2"),
+    "contact.chatter_interval": ("s", "", "impacts closer in time than this end the run as chattering"),
+    "contact.stiffness": ("N m-n", "K", "stiffness of the compliant law (n = exponent)"),
+    "contact.exponent": ("1", "n", "exponent of the compliant law (1.5: Hertz)"),
+    "model.equations": ("", "", "corrected (lubelink's) or a printed form of the paper"),
+    "solver.method": ("", "", "auto: DOP853 for 1 mode, else exponential"),
+    "solver.rtol": ("1", "", "relative tolerance on q, q_dot"),
+    "solver.atol": ("m", "", "absolute tolerance on q [m] and q_dot [m/s]"),
+    "solver.t_end": ("s", "", "end of the simulated interval, which starts at 0"),
+    "solver.output_step": ("s", "", "spacing of the stored time samples; below t_end"),
+    "solver.max_step": ("s", "", "largest step of the integrator (inf: no limit)"),
+    "solver.max_wall_time": ("s", "", "wall-clock budget (inf: none); past it the run stops, status "
+                                      "timeout, keeping its results"),
+    "solver.backend": ("", "", "auto: compiled (Numba) where it applies"),
+    "output.x_points": ("1", "", "samples of u2 along the link"),
+    "output.pad_points": ("1", "", "samples of the film pressure along the pad"),
 }
 
 
@@ -245,8 +296,10 @@ class Solver:
         the default tolerance, see benchmarks/README.md), ``"exponential"`` (exponential
         Runge-Kutta, exact on the modal oscillators), ``"DOP853"``, ``"bulirsch-stoer"`` (the
         paper's), or SciPy's ``"RK45"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``.
-    rtol, atol : float
-        Relative [-] and absolute [m, m/s] tolerances on ``q``, ``q_dot``.
+    rtol : float
+        Relative tolerance on ``q``, ``q_dot`` [-].
+    atol : float
+        Absolute tolerance on ``q`` [m] and ``q_dot`` [m/s].
     t_end : float
         End of the simulated interval, which starts at 0 [s].
     output_step : float

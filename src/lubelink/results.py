@@ -22,7 +22,8 @@ import numpy as np
 from ._files import atomic_path, target_problem
 
 __all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "to_dataset", "write", "save", "load",
-           "config_of", "atomic_path", "ResultsFileError", "versions", "output_problem", "NETCDF_SUFFIXES"]
+           "config_of", "atomic_path", "ResultsFileError", "versions", "output_problem", "NETCDF_SUFFIXES",
+           "CONVENTIONS", "VARIABLE_ATTRS", "file_attrs", "library_versions"]
 
 
 class Variable(NamedTuple):
@@ -57,8 +58,18 @@ VARIABLES = {
     "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
     "impact_velocity_after": Variable(("impact",), "m s-1",
                                       "normal approach velocity after impact (negative opening)"),
-    "impact_side": Variable(("impact",), "1", "film side of the contact"),
+    "impact_side": Variable(("impact",), "1", "film side of the contact: 1 the film H/2 - u2 (the link's +j side), "
+                                              "-1 the film H/2 + u2 (its -j side)"),
 }
+
+#: Attributes beyond units and long name, by variable: the CF flag attributes of the flag variables.
+VARIABLE_ATTRS = {
+    "impact_side": {"flag_values": np.array([1, -1], dtype=np.int64),
+                    "flag_meanings": "positive_j_side negative_j_side"},
+}
+
+#: The CF conventions the results files follow (global attribute ``Conventions``).
+CONVENTIONS = "CF-1.10"
 
 #: Version of the results layout; :func:`load` refuses other major versions.
 FORMAT_VERSION = "1.0"
@@ -80,7 +91,7 @@ def variable(dims, data, units, long_name, **attrs):
 
 def _entry(name, data, **attrs):
     v = VARIABLES[name]
-    return variable(v.dims, data, v.units, v.long_name, **attrs)
+    return variable(v.dims, data, v.units, v.long_name, **VARIABLE_ATTRS.get(name, {}), **attrs)
 
 
 @lru_cache(maxsize=1)
@@ -200,7 +211,9 @@ def collect(result, variables=None) -> Results:
     data = {name: data[name] for name in VARIABLES if name in data}
     version, libs = versions()
     attrs = {
+        "Conventions": CONVENTIONS,
         "title": "lubelink simulation of a flexible link with a lubricated prismatic joint",
+        "source": f"lubelink {version}",
         "references": "Marghitu & Guran, The Dynamics of a Flexible Beam With a Lubricated Prismatic Kinematic "
                       "Pair, J. Vibration and Acoustics; the equations as lubelink implements them: docs/model.md "
                       "sections 1-7, its corrections to the paper: section 8, its parameter choices: section 9",
@@ -218,6 +231,7 @@ def collect(result, variables=None) -> Results:
         "nsteps": result.nsteps,
         "impact_count": len(imp),
         "wall_time": result.wall_time,
+        "wall_time_units": "s",
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
@@ -225,6 +239,23 @@ def collect(result, variables=None) -> Results:
 
 #: zlib level of every variable in a results file (level 1-4 halve the file; higher gains little).
 COMPRESSION = 2
+
+
+def library_versions():
+    """The netCDF-C and HDF5 library versions behind netCDF4 (imported here: only writers ask)."""
+    import netCDF4
+
+    return f"netCDF-C {netCDF4.__netcdf4libversion__}, HDF5 {netCDF4.__hdf5libversion__}"
+
+
+def file_attrs(attrs):
+    """The global attributes of a results file: ``attrs`` with the netCDF-C and HDF5 versions
+    added to ``versions`` and booleans as integers (NetCDF has no boolean type)."""
+    out = {k: (int(v) if isinstance(v, (bool, np.bool_)) else v) for k, v in attrs.items()}
+    libs = library_versions()
+    if "versions" in out and libs not in str(out["versions"]):
+        out["versions"] = f"{out['versions']}, {libs}"
+    return out
 
 
 def write(results: Results, path, overwrite=False):
@@ -249,7 +280,7 @@ def write(results: Results, path, overwrite=False):
                 var.setncatts(attrs)
                 if data.size:
                     var[...] = data
-            nc.setncatts({k: (int(v) if isinstance(v, bool) else v) for k, v in results.attrs.items()})
+            nc.setncatts(file_attrs(results.attrs))
     return path
 
 
@@ -307,7 +338,10 @@ def save(dataset, path, overwrite=False):
         or not writable.
     """
     path = _checked_target(path, overwrite)
-    encoding = {name: {"zlib": True, "complevel": COMPRESSION} for name, v in dataset.variables.items() if v.size}
+    encoding = {name: {"zlib": bool(v.size), "complevel": COMPRESSION, "_FillValue": None}
+                for name, v in dataset.variables.items()}
+    dataset = dataset.copy(deep=False)
+    dataset.attrs = file_attrs(dataset.attrs)
     with _publishing(path, overwrite) as tmp:
         dataset.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
     return path

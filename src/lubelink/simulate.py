@@ -15,7 +15,7 @@ import numpy as np
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
-from .model import build_model, compile_failed
+from .model import BackendError, build_model, compile_failed
 from .results import to_dataset
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name"]
@@ -146,8 +146,12 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
                                       deadline=deadline, progress=progress, compiled=compiled_loop,
                                       options=options, p_type=model.params_type if compiled_loop else None)
         except _compile_errors() as exc:
-            if not model.compiled or s.backend != "auto":
+            if not model.compiled:
                 raise
+            if s.backend == "numba":
+                raise BackendError(f"solver.backend = 'numba': compiling the kernels failed ({type(exc).__name__}: "
+                                   f"{str(exc).splitlines()[0] if str(exc) else ''}); use solver.backend = 'auto' "
+                                   "(falls back to numpy) or 'numpy'") from exc
             model = compile_failed(model, exc)
             out.model = logic.model = model
             continue

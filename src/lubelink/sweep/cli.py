@@ -66,6 +66,7 @@ def register_cli(subparsers, add_config_args):
                    help="fix a swept dimension at (the value nearest to) VALUE; repeatable")
     p.add_argument("-o", "--output", metavar="FILE.png",
                    help="image file (default: <results name>-<quantity>.png here)")
+    p.add_argument("--overwrite", action="store_true", help="replace the image file if it exists")
     p.set_defaults(handler=_cmd_plot_sweep)
 
 
@@ -228,7 +229,7 @@ def _cmd_plot_sweep(args):
         dim, value = (part.strip() for part in text.split("=", 1))
         select[dim] = value
     if args.output:
-        _check_image(Path(args.output))
+        _check_image(Path(args.output), args.overwrite)
     _require("matplotlib", "zarr", "xarray", extra="plot,sweep")
     import matplotlib
 
@@ -241,10 +242,13 @@ def _cmd_plot_sweep(args):
         raise UsageError(str(exc)) from None
     quantity = quantity or ("peak_u2_mid" if "peak_u2_mid" in ds else "status")
     out = Path(args.output) if args.output else Path(f"{path.name.split('.')[0]}-{quantity}.png")
-    _check_image(out)
+    _check_image(out, args.overwrite)
     try:
-        with atomic_path(out) as tmp:
+        with atomic_path(out, overwrite=args.overwrite) as tmp:
             fig.savefig(tmp, dpi=120, bbox_inches="tight", format=out.suffix.lstrip(".").lower() or "png")
+    except FileExistsError:
+        raise UsageError(f"-o {out}: appeared while the plot was drawn; it was not replaced (add --overwrite "
+                         "to replace it)") from None
     except OSError as exc:
         raise UsageError(f"-o {out}: could not be written ({exc.strerror or exc})") from None
     print(f"wrote {out}")
@@ -255,11 +259,15 @@ def _cmd_plot_sweep(args):
 IMAGE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".eps", ".ps")
 
 
-def _check_image(out):
-    """Refuse, before drawing, an image file that cannot be written (plots are replaced, but only
-    regular files; the format comes from the suffix)."""
+def _check_image(out, overwrite):
+    """Refuse, before drawing, an image file that cannot be written: an existing one without
+    ``--overwrite``, anything but a regular file, a suffix that is not an image format."""
+    import os
+
     if out.suffix.lower() not in IMAGE_SUFFIXES:
         raise UsageError(f"-o {out}: name an image file, one of " + ", ".join(f"*{s}" for s in IMAGE_SUFFIXES))
     problem = target_problem(out)
+    if not problem and os.path.lexists(out) and not overwrite:
+        problem = "the file exists; add --overwrite to replace it"
     if problem:
         raise UsageError(f"-o {out}: {problem}")

@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from ..results import VARIABLES
 from .schema import ALWAYS, QUANTITIES, SERIES, SWEEP_FORMAT, _parameters
 from .spec import Sweep
 
@@ -33,17 +34,8 @@ def _time_axis(config):
     return np.arange(n) * s.output_step
 
 
-_SERIES_ATTRS = {
-    "u2_mid": ("m", "midpoint deflection"),
-    "x_star": ("m", "collar position along the link"),
-    "V_r": ("m s-1", "collar velocity relative to the link"),
-    "film_min": ("m", "thinnest film on the pad (sampled)"),
-    "film_force": ("N", "resultant film force on the link along +j"),
-    "q": ("m", "modal coordinate"),
-    "q_dot": ("m s-1", "modal velocity"),
-    "u2": ("m", "transverse deflection"),
-    "pressure": ("Pa", "gauge film pressure P - p_am"),
-}
+#: Units and long names of the time series: those of the results files.
+_SERIES_ATTRS = {name: (VARIABLES[name].units, VARIABLES[name].long_name) for name in SERIES}
 
 
 def _template(sp: Sweep):

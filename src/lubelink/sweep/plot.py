@@ -29,46 +29,86 @@ def _edges(values, log):
 
 
 def _axis_values(ds, dim, lists_as_categories):
-    """``(positions, tick labels or None, log)`` of a dimension coordinate on a plot axis.
+    """``(positions, tick labels or None, log, label)`` of a dimension coordinate on a plot axis,
+    in its display unit (:func:`lubelink.plots.units.display_unit`).
 
-    Strings, and in heat maps lists of values, are placed at equal spacing and
-    labelled; ranges keep their linear or log scale; a numeric list spanning two
-    decades or more is drawn on a log axis.
+    Strings, and in heat maps lists of swept values, are placed at equal spacing and
+    labelled; ranges (and the time axis of a series) keep their linear or log scale; a numeric
+    list spanning two decades or more is drawn on a log axis.
     """
-    def text(v):
-        return _fmt(v.item() if hasattr(v, "item") else v)
+    from ..plots.units import display_unit, label
 
     c = ds[dim]
     if dim == "point":  # explicit points: label each with its parameter values
         params = [n for n, v in ds.coords.items() if v.dims == ("point",) and n != "point"]
-        labels = [", ".join(f"{n.split('.')[-1]}={text(ds[n].values[i])}" for n in params) for i in range(c.size)]
-        return np.arange(c.size, dtype=float), labels, False
-    scale = c.attrs.get("scale", "list")
-    if c.dtype.kind not in "fiu" or (lists_as_categories and scale == "list" and c.size > 1):
-        return np.arange(c.size, dtype=float), [text(v) for v in c.values], False
+        shown = {}
+        for n in params:
+            unit, size = display_unit(ds[n].attrs.get("units", ""), ds[n].values if ds[n].dtype.kind in "fiu" else None)
+            shown[n] = (unit, size)
+
+        def text(n, v):
+            unit, size = shown[n]
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                return f"{v / size:.4g}" + (f" {unit}" if unit else "")
+            return _fmt(v)
+
+        labels = [", ".join(f"{n.split('.')[-1]}={text(n, ds[n].values[i].item())}" for n in params)
+                  for i in range(c.size)]
+        return np.arange(c.size, dtype=float), labels, False, "point"
+    scale = c.attrs.get("scale", "list" if "parameter" in c.attrs else "range")
+    numeric = c.dtype.kind in "fiu"
+    unit, size = display_unit(c.attrs.get("units", ""), c.values if numeric else None)
+    name = label(dim, unit)
+    if not numeric or (lists_as_categories and scale == "list" and c.size > 1):
+        ticks = [f"{v.item() / size:.4g}" if numeric else _fmt(v.item()) for v in c.values]
+        return np.arange(c.size, dtype=float), ticks, False, name
     v = c.values.astype(float)
     wide = scale == "list" and v.size > 1 and v.min() > 0 and v.max() / v.min() >= 100
-    return v, None, scale == "log" or wide
+    return v / size, None, scale == "log" or wide, name
 
 
-def _label(ds, name):
-    units = ds[name].attrs.get("units", "")
-    return f"{name} [{units}]" if units and units != "1" else name
+def _shown(c):
+    """The value of a scalar coordinate ``c`` in its display unit, e.g. ``100 mPa s``."""
+    from ..plots.units import display_unit
+
+    value = c.values.item() if hasattr(c.values, "item") else c.values
+    if c.dtype.kind not in "fiu":
+        return _fmt(value)
+    unit, size = display_unit(c.attrs.get("units", ""), value)
+    return f"{value / size:.4g}" + (f" {unit}" if unit else "")
+
+
+#: Quantities that describe the run itself, meaningful for failed points too: they are drawn for
+#: every stored point. Every other quantity of a point that did not complete comes from a partial
+#: run, and is masked (drawn blank, marked x).
+RUN_STATISTICS = ("status", "wall_time", "end_time", "nfev")
+
+
+def _fix_ticks(ax, xlog, ylog, xticks, yticks):
+    from ..plots.units import plain_ticks
+
+    if not xlog and not xticks:
+        plain_ticks(ax.xaxis)
+    if not ylog and not yticks:
+        plain_ticks(ax.yaxis)
 
 
 def plot_sweep(results, quantity=None, *, select=None, fig=None):
     """Response map of one quantity over the swept dimensions.
 
     One dimension left (after ``select``): curves; two: a heat map; three:
-    heat maps faceted along the last one. Points that failed are marked with
-    a cross; points not yet computed are left blank.
+    heat maps faceted along the last one. A stored time series adds ``time`` as the first
+    dimension (curves against time, or a time-parameter map). Values are drawn in display units
+    (mm, µm, kPa, ...: :mod:`lubelink.plots.units`). Points that did not complete are masked and
+    marked with a cross (their values come from a partial run), except for the run statistics
+    :data:`RUN_STATISTICS`; points not yet computed are left blank.
 
     Parameters
     ----------
     results : xarray.Dataset or path
         :func:`run_sweep` / :func:`load_sweep` output, or a store path.
     quantity : str, optional
-        Stored quantity (default ``peak_u2_mid`` when stored); ``status``
+        Stored quantity or time series (default ``peak_u2_mid`` when stored); ``status``
         draws a map of the outcomes.
     select : dict, optional
         ``{dimension: value}`` slices (nearest value for numbers); ``impact``
@@ -80,9 +120,12 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
     """
     import matplotlib.pyplot as plt
 
+    from ..plots.units import display_unit, label
+
     ds = results if hasattr(results, "data_vars") else load_sweep(results)
     dims = ds.attrs.get("swept_dims", "").split()
-    stored = [q for q in ds.attrs.get("quantities", "").split() if q in ds] + ["status", "wall_time"]
+    series = [q for q in ds.attrs.get("time_series", "").split() if q in ds]
+    stored = [q for q in ds.attrs.get("quantities", "").split() if q in ds] + series + ["status", "wall_time"]
     if quantity is None:
         quantity = "peak_u2_mid" if "peak_u2_mid" in ds else stored[0]
     if quantity not in ds or quantity not in stored:
@@ -109,28 +152,41 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
             sub = sub.isel(impact=int(exact["impact"]))
     except KeyError as exc:
         raise SweepError(f"select: no such value {exc}") from None
-    free = [d for d in dims if d in sub[quantity].dims]
-    if len(free) > 3 or not free:
-        raise SweepError(f"{len(free)} swept dimensions left ({', '.join(free) or 'none'}): plot-sweep draws "
-                         "1 (curves), 2 (heat map) or 3 (facets); fix the others with --select DIM=VALUE")
-    done = sub["done"].values.astype(bool)
-    failed = done & (sub["status"].values.astype(str) != "complete")
+    is_series = quantity in series
+    if is_series:
+        extra = [d for d in sub[quantity].dims if d not in dims and d != "time"]
+        if extra:
+            raise SweepError(f"{quantity} has the dimension {extra[0]} besides time: pick one value with "
+                             f"--select {extra[0]}=VALUE")
+    free = (["time"] if is_series else []) + [d for d in dims if d in sub[quantity].dims]
+    n_swept = len(free) - is_series
+    if len(free) > 3 or not free or (not is_series and n_swept == 0):
+        raise SweepError(f"{n_swept} swept dimensions left ({', '.join(free[is_series:]) or 'none'}): plot-sweep "
+                         "draws 1 (curves), 2 (heat map) or 3 (facets)" + (" with time as one" if is_series else "")
+                         + "; fix the others with --select DIM=VALUE")
+    done = sub["done"].astype(bool)
+    failed_da = done & (sub["status"].astype(str) != "complete")
     values = sub[quantity]
-    units = ds[quantity].attrs.get("units", "")
-    title = quantity + (f" [{units}]" if units and units != "1" else "")
+    mask_failed = quantity not in RUN_STATISTICS
     categories = None
     if quantity == "status" or values.dtype.kind in "OUS":
-        categories = sorted({str(v) for v in values.values.reshape(-1)[done.reshape(-1)]}) or ["(none)"]
+        shown = values.values.reshape(-1)[np.broadcast_to(done.values, values.shape).reshape(-1)]
+        categories = sorted({str(v) for v in shown}) or ["(none)"]
         codes = np.vectorize(lambda v: categories.index(str(v)) if str(v) in categories else -1,
                              otypes=[float])(values.values)
-        data = np.where(done, codes, np.nan)
+        da = values.copy(data=codes).where(done)
+        unit, size = "", 1.0
     else:
-        data = np.where(done, values.values.astype(float), np.nan)
-    da = values.copy(data=data).transpose(*free)
-    failed = values.copy(data=failed).transpose(*free).values
+        keep = done & ~failed_da if mask_failed else done
+        da = values.astype(float).where(keep)
+        unit, size = display_unit(values.attrs.get("units", ""), da.values)
+        da = da / size
+    da = da.transpose(*free)
+    failed = failed_da.broadcast_like(values).transpose(*free).values
+    title = label(quantity, unit)
     if select:
-        title += "  (" + ", ".join(f"{d} = {_fmt(sub[d].item()) if d in sub.coords else v}"
-                                   for d, v in select.items()) + ")"
+        title += "  (" + ", ".join(f"{d} = {_shown(sub[d]) if d in sub.coords else v}" for d, v in select.items()) + ")"
+    long_name = ds[quantity].attrs.get("long_name", quantity)
 
     panels = [None] if len(free) < 3 else list(range(sub.sizes[free[2]]))
     if len(panels) > 16:
@@ -141,11 +197,17 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
     fig = fig or plt.figure(figsize=(7.0, 4.8) if len(free) < 3 else (3.6 * ncols + 1.0, 3.0 * nrows + 0.6))
     if len(free) == 1:
         ax = fig.add_subplot()
-        x, ticks, log = _axis_values(sub, free[0], False)
-        ax.plot(x, da.values, "o-", label=quantity)
+        x, ticks, log, xname = _axis_values(sub, free[0], False)
+        ax.plot(x, da.values, "o-" if not is_series else "-", label=quantity)
         if failed.any():
-            ax.plot(x[failed], da.values[failed], "x", color="tab:red", ms=9, mew=2,
-                    label="failed (status not complete)")
+            if is_series:  # the one point drawn did not complete: show its partial run apart
+                partial = values.astype(float).transpose(*free).values / size
+                ax.plot(x, partial, "--", color="tab:gray",
+                        label=f"partial run (status {sub['status'].item()}, not complete)")
+            else:
+                ax.plot(x[failed], np.full(int(failed.sum()), 0.03), "x", color="tab:red", ms=9, mew=2,
+                        transform=ax.get_xaxis_transform(), clip_on=False,
+                        label="did not complete (masked)" if mask_failed else "did not complete")
             ax.legend()
         if ticks:
             ax.set_xticks(x, ticks)
@@ -153,30 +215,39 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
             ax.set_xscale("log")
         if categories:
             ax.set_yticks(range(len(categories)), categories)
-        ax.set_xlabel(_label(sub, free[0]))
+        _fix_ticks(ax, log, False, ticks, categories)
+        ax.set_xlabel(xname)
         ax.set_ylabel(title)
-        ax.set_title(ds[quantity].attrs.get("long_name", quantity), fontsize=10)
+        ax.set_title(long_name, fontsize=10)
         ax.grid(True, alpha=0.3)
         return fig
 
+    data = da.values
     finite = data[np.isfinite(data)]
     vmin, vmax = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
-    cmap = plt.get_cmap("viridis", len(categories)) if categories else "viridis"
+    cmap = plt.get_cmap("viridis", len(categories)) if categories else plt.get_cmap("viridis")
     if categories:
         vmin, vmax = -0.5, len(categories) - 0.5
     axes = fig.subplots(nrows, ncols, squeeze=False)
     mesh = None
+    marked = False
     for k, panel in enumerate(panels):
         ax = axes.flat[k]
-        z = da.values if panel is None else da.values[..., panel]
+        z = data if panel is None else data[..., panel]
         f = failed if panel is None else failed[..., panel]
-        x, xt, xlog = _axis_values(sub, free[0], True)
-        y, yt, ylog = _axis_values(sub, free[1], True)
+        x, xt, xlog, xname = _axis_values(sub, free[0], True)
+        y, yt, ylog, yname = _axis_values(sub, free[1], True)
         mesh = ax.pcolormesh(_edges(x, xlog), _edges(y, ylog), z.T, cmap=cmap, vmin=vmin, vmax=vmax,
                              shading="flat")
         if f.any() and not categories:
-            ix, iy = np.nonzero(f)
-            ax.plot(x[ix], y[iy], "x", color="white", ms=7, mew=2, markeredgecolor="black")
+            if is_series:  # a failed point is a blank row: mark it at the start of the time axis
+                rows = np.nonzero(f.any(axis=0))[0]
+                ax.plot(np.full(rows.size, 0.0), y[rows], "x", color="white", ms=7, mew=2,
+                        markeredgecolor="black", transform=ax.get_yaxis_transform(), clip_on=False)
+            else:
+                ix, iy = np.nonzero(f)
+                ax.plot(x[ix], y[iy], "x", color="white", ms=7, mew=2, markeredgecolor="black")
+            marked = True
         if xt:
             ax.set_xticks(x, xt)
         if yt:
@@ -185,16 +256,22 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
             ax.set_xscale("log")
         if ylog:
             ax.set_yscale("log")
-        ax.set_xlabel(_label(sub, free[0]))
-        ax.set_ylabel(_label(sub, free[1]))
+        _fix_ticks(ax, xlog, ylog, xt, yt)
+        ax.set_xlabel(xname)
+        ax.set_ylabel(yname)
         if panel is not None:
-            ax.set_title(f"{free[2]} = {_fmt(sub[free[2]].values[panel].item())}", fontsize=9)
+            ax.set_title(f"{free[2]} = {_shown(sub[free[2]][panel])}", fontsize=9)
         else:
-            ax.set_title(ds[quantity].attrs.get("long_name", quantity), fontsize=10)
+            ax.set_title(long_name, fontsize=10)
     for ax in axes.flat[len(panels):]:
         ax.set_visible(False)
     cbar = fig.colorbar(mesh, ax=axes.ravel().tolist())
     if categories:
         cbar.set_ticks(range(len(categories)), labels=categories)
-    cbar.set_label(title + ("   x: failed" if failed.any() and not categories else ""))
+    else:
+        from ..plots.units import plain_ticks
+
+        plain_ticks(cbar.ax.yaxis)
+    cbar.set_label(title + ("   x: did not complete (masked)" if marked and mask_failed else
+                            "   x: did not complete" if marked else ""))
     return fig

@@ -8,7 +8,6 @@ No heavy imports.
 
 from __future__ import annotations
 
-import re
 from dataclasses import fields
 
 __all__ = ["SWEEP_FORMAT", "QUANTITIES", "DEFAULT_QUANTITIES", "ALWAYS", "SERIES", "SweepError"]
@@ -60,28 +59,19 @@ class SweepError(RuntimeError):
 
 # ====================================================================== parameters
 def _parameters():
-    """``{"section.key": (field type, units, long name)}`` from the parameter dataclasses.
+    """``{"section.key": (field type, units, long name)}`` of every parameter.
 
-    Units and descriptions come from the numpydoc ``Attributes`` of
-    :mod:`lubelink.params`, the single source of truth.
+    Units and long names come from :data:`lubelink.params.FIELDS`, the table ``lubelink config``
+    comments its keys from.
     """
-    from ..params import SECTION_TYPES
+    from ..params import FIELDS, SECTION_TYPES
 
     out = {}
     for section, cls in SECTION_TYPES.items():
-        docs = {}
-        for m in re.finditer(r"^ {4}([\w, ]+) : [\w ]+\n((?: {8}.*\n?)+)", cls.__doc__ or "", re.M):
-            text = " ".join(line.strip() for line in m.group(2).splitlines())
-            unit = re.search(r"\[([^\]]+)\]", text)
-            units = unit.group(1) if unit else ""
-            units = "1" if units == "-" else units
-            long_name = text.split(" [")[0].split(" (")[0].rstrip(".")
-            for name in m.group(1).split(","):
-                docs[name.strip()] = (units, long_name)
         for f in fields(cls):
-            units, long_name = docs.get(f.name, ("", f.name))
+            units, _, long_name = FIELDS.get(f"{section}.{f.name}", ("", "", f.name))
             ftype = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
-            out[f"{section}.{f.name}"] = (ftype, units, long_name)
+            out[f"{section}.{f.name}"] = (ftype, units, long_name or f.name)
     return out
 
 
