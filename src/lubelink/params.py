@@ -72,7 +72,11 @@ FIELDS = {
     "film.sides": ("1", "", "films: 1 on the +j side (paper), 2 a collar enclosing the link"),
     "film.cavitation": ("", "", "none (paper), half-Sommerfeld, reynolds: Swift-Stieber"),
     "film.cavitation_pressure": ("Pa", "p_cav", "absolute cavitation pressure; at most ambient_pressure"),
-    "film.grid_points": ("1", "", "pad grid points of the reynolds cavitation solver"),
+    "film.grid_points": ("1", "", "pad grid points of the reynolds cavitation solver and of the 2d and short films"),
+    "film.reynolds": ("", "", "1d: averaged across the width (paper); 2d: finite width; short: short-bearing "
+                              "closed form"),
+    "film.width_modes": ("1", "", "odd sine terms across the width of the 2d film"),
+    "film.width_points": ("1", "", "points across the width where the 2d film is clipped (half-Sommerfeld)"),
     "collar.mass": ("kg", "m_c", "mass of the collar and its guided member (joint reaction)"),
     "contact.law": ("", "", "restitution: paper Eq. 21, compliant: Lankarani-Nikravesh"),
     "contact.restitution": ("1", "e", "coefficient of restitution"),
