@@ -29,6 +29,9 @@ MAPS = [
      np.round(np.arange(3.0e-3, 6.5e-3, 1e-5), 9)),
     ("5mode", {"beam.modes": 5, "film.viscosity": 0.02}, np.round(np.arange(0.05, 0.2001, 0.025), 4),
      np.round(np.arange(3.5e-3, 6.5e-3, 2e-5), 9)),
+    # around the widest window of the 1-mode map: finer in pad length and clearance
+    ("1mode-zoom", {"beam.modes": 1, "film.viscosity": 0.014}, np.round(np.arange(0.112, 0.1281, 0.002), 4),
+     np.round(np.arange(5.30e-3, 5.70e-3, 5e-6), 9)),
 ]
 SEARCH = dict(dx=2.5e-7, refine=phase_refine(TARGET, PERIOD, 0.01))
 

@@ -81,7 +81,7 @@ def main(out="docs/figures"):
     say("| film, solver | window [mm] | width [nm] | H0 - lower edge [nm] | upper edge - H0 [nm] | "
         "branch (to the jumps) [mm] | H0 to the nearer jump [nm] (relative) |")
     say("|---|---|---|---|---|---|---|")
-    grid = H0 + np.linspace(-12e-6, 12e-6, 25)
+    grid = H0 + np.linspace(-20e-6, 20e-6, 41)
     for label, settings in variants[:3] + variants[4:5]:
         ws = find_windows(lambda H, s=settings: t1({**s, "film.clearance": float(H)}, PAPER_IMPACT_TIME + 0.1),
                           grid, PAPER_IMPACT_TIME, TOL, dx=2.5e-7, xtol=1e-11)
