@@ -63,6 +63,18 @@ def test_windows_of_a_synthetic_first_impact_time():
     assert len(calls) == len(set(calls)) < 600  # each clearance evaluated once
 
 
+def test_branch_followed_into_no_impact():
+    """A branch that ends where the first impact disappears (``inf`` beyond): the jump is bracketed."""
+
+    def t1(H):
+        return 0.5 if H < 3.0 else (1.0 + 0.1 * (H - 3.0) if H < 4.0 else math.inf)
+
+    (w,) = find_windows(t1, np.arange(0.0, 11.0), TARGET, TOL, dx=1e-3, xtol=1e-9)
+    assert w.branch[0] == pytest.approx(3.0, abs=2e-9) and w.branch[1] == pytest.approx(4.0, abs=2e-9)
+    assert w.beyond_times == (0.5, math.inf)
+    assert w.branch_times[1] == pytest.approx(1.1, abs=1e-8)
+
+
 def test_phase_refinement_finds_a_window_hidden_between_other_turns():
     # 0.45, 0.65, 0.85 and 1.05 share the crank phase 0.05 s of a 0.2 s turn; the jumps between
     # them are searched, and the window at 8.4-8.6 appears

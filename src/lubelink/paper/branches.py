@@ -81,6 +81,11 @@ def _side(t, target, tol):
     return 0 if abs(t - target) <= tol else (-1 if t < target else 1)
 
 
+def _step(a, b):
+    """``|a - b|`` for first-impact times, 0 between two "no impact" (``inf``)."""
+    return 0.0 if a == b else abs(a - b)
+
+
 def find_windows(t1, clearances, target, tol, dx=5e-9, xtol=1e-10, jump=1e-3, subdivide=4, check=16, refine=None):
     """Windows of ``t1(H)`` within ``tol`` of ``target`` on the clearances ``[H_0, H_-1]``.
 
@@ -170,13 +175,13 @@ def find_windows(t1, clearances, target, tol, dx=5e-9, xtol=1e-10, jump=1e-3, su
 
     def find_jump(a, b):
         """The jump of ``t1`` between ``a`` and ``b``, bracketed to ``xtol`` (follow the larger step), or None."""
-        while abs(b - a) > xtol and abs(t(a) - t(b)) > jump:
+        while abs(b - a) > xtol and _step(t(a), t(b)) > jump:
             mid = 0.5 * (a + b)
-            if abs(t(mid) - t(a)) >= abs(t(b) - t(mid)):
+            if _step(t(mid), t(a)) >= _step(t(b), t(mid)):
                 b = mid
             else:
                 a = mid
-        return (a, b) if abs(t(a) - t(b)) > jump else None
+        return (a, b) if _step(t(a), t(b)) > jump else None
 
     def branch_end(inside, outside, direction):
         """Follow the branch from the window edge outward to its first jump: (edge, t inside, t beyond)."""
@@ -196,7 +201,7 @@ def find_windows(t1, clearances, target, tol, dx=5e-9, xtol=1e-10, jump=1e-3, su
         if outside is None:
             return inside, "grid", (inside, t(inside), math.nan)
         last, first = bracket(inside, outside)
-        if abs(t(last) - t(first)) > jump:
+        if _step(t(last), t(first)) > jump:
             return last, "jump", (last, t(last), t(first))
         return last, "tolerance", branch_end(last, first, direction)
 
