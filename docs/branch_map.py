@@ -88,8 +88,18 @@ def figure(maps, best):
 
     from lubelink.plots._style import _figure, _style
 
+    import lubelink
+
+    scenario = lubelink.resolve_config("paper-impact")
+
+    def mine(ds):
+        """Whether the map is of the scenario's settings and holds its pad length."""
+        pads = ds.pad_length.values
+        return (int(ds.attrs["modes"]) == scenario.beam.modes and np.isclose(ds.attrs["viscosity"], scenario.film.viscosity)
+                and bool(np.any(np.isclose(pads, scenario.film.pad_length))))
+
     with _style():
-        fig = _figure(11.0, 8.0)
+        fig = _figure(11.0, 4.0 * len(maps))
         axes = fig.subplots(len(maps), 2, width_ratios=[3, 1], squeeze=False)
         colours = ListedColormap(list(plt.get_cmap("tab10").colors) + [(0.85, 0.85, 0.85)])
         norm = BoundaryNorm(np.arange(-0.5, 11.0, 1.0), colours.N)
@@ -105,12 +115,16 @@ def figure(maps, best):
                            lw=1.0, label=f"first impact {TARGET} s +- {TOL * 1e3:.0f} ms (size: width)")
             if best is not None and best[0] is ds:
                 k = best[1]
-                ax.plot(ds.centre.values[k] * 1e3, wl[k], "*", color="red", ms=14, mec="k",
-                        label="paper-impact")
+                ax.plot(ds.centre.values[k] * 1e3, wl[k], "^", color="gold", ms=10, mec="k",
+                        label="centre of the widest window")
+            if mine(ds):
+                ax.plot(scenario.film.clearance * 1e3, scenario.film.pad_length * 1e3, "*", color="red", ms=14,
+                        mec="k", label="paper-impact")
             ax.set_xlabel("clearance H [mm]")
             ax.set_ylabel("pad length l [mm]")
-            ax.set_title(f"{ds.attrs['modes']} mode{'s' if ds.attrs['modes'] > 1 else ''}, "
-                         f"mu = {ds.attrs['viscosity'] * 1e3:g} mPa s: crank turn of the first impact")
+            ax.set_title(f"{name}: {ds.attrs['modes']} mode{'s' if ds.attrs['modes'] > 1 else ''}, "
+                         f"mu = {ds.attrs['viscosity'] * 1e3:g} mPa s, searched to {ds.attrs['t_stop']:g} s: "
+                         "crank turn of the first impact", fontsize=9)
             ax.legend(loc="upper left", fontsize=7)
             cb = fig.colorbar(mesh, ax=ax, ticks=range(11), pad=0.01)
             cb.ax.set_yticklabels([str(i + 1) for i in range(10)] + ["none"], fontsize=7)
@@ -119,7 +133,11 @@ def figure(maps, best):
                 sel = wl == pad
                 side.plot(np.full(sel.sum(), pad), ww[sel], "o", color="C0", ms=3)
             if best is not None and best[0] is ds:
-                side.plot(wl[best[1]], ww[best[1]], "*", color="red", ms=12, mec="k")
+                side.plot(wl[best[1]], ww[best[1]], "^", color="gold", ms=10, mec="k")
+            if mine(ds):
+                k = np.flatnonzero((ds.lo.values <= scenario.film.clearance) & (scenario.film.clearance <= ds.hi.values)
+                                   & np.isclose(wl, scenario.film.pad_length * 1e3))
+                side.plot(wl[k], ww[k], "*", color="red", ms=12, mec="k")
             side.set_xlabel("pad length l [mm]")
             side.set_ylabel("window width [um]")
             side.set_title("windows at 1.273 s", fontsize=9)

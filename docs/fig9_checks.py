@@ -132,7 +132,9 @@ def main(out="docs/figures"):
         run = lubelink.simulate("paper-impact", {**settings, "contact.law": "none", "output.x_points": 3,
                                                  "output.pad_points": 5})
         k = int(np.argmin(run.film_min.values))
-        say(f"| {label} | {tc:.5f} | {angle:.0f} | {run.film_min.values[k] * 1e6:.1f} ({run.time.values[k]:.4f}) |")
+        thinnest = (f"breakdown ({base.contact.min_film * 1e6:g})" if run.attrs["status"] == "film_breakdown"
+                    else f"{run.film_min.values[k] * 1e6:.1f} ({run.time.values[k]:.4f})")
+        say(f"| {label} | {tc:.5f} | {angle:.0f} | {thinnest} |")
     # 5. the restitution run -------------------------------------------------------------------
     full = lubelink.simulate("paper-impact", {"output.x_points": 3, "output.pad_points": 5})
     times = full.impact_time.values
