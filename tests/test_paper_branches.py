@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink.paper import PAPER_IMPACT_TIME
+from lubelink.paper import PAPER_IMPACT_TIME, first_impact_time
 from lubelink.paper.branches import branch_map, find_windows, phase_refine, widest_window
 
 TARGET, TOL = 1.05, 0.01
@@ -103,10 +103,10 @@ def test_window_search_rejects_bad_input(kwargs, needle):
 
 
 def test_branch_map_finds_the_paper_impact_window_on_a_coarse_grid():
-    """One pad length, 5 clearances 1 um apart: the window of paper-impact and its first impact."""
+    """One pad length, 5 clearances 5 um apart: the window of paper-impact and its first impact."""
     config = lubelink.resolve_config("paper-impact")
     H0, pad = config.film.clearance, config.film.pad_length
-    ds = branch_map([pad], H0 + np.arange(-2, 3) * 1e-6, t_stop=1.4, dx=2.5e-7, xtol=1e-10)
+    ds = branch_map([pad], H0 + np.arange(-2, 3) * 5e-6, t_stop=1.4, dx=2.5e-7, xtol=1e-10)
     assert ds.first_impact.dims == ("pad_length", "clearance") and ds.first_impact.attrs["units"] == "s"
     assert ds.attrs["runs"] < 200
     best = widest_window(ds)
@@ -120,6 +120,10 @@ def test_branch_map_finds_the_paper_impact_window_on_a_coarse_grid():
     # the edges are where the first impact leaves 1.273 s +- 2 ms, or jumps
     for edge, exit_ in ((lo, str(ds.lo_exit.values[k])), (hi, str(ds.hi_exit.values[k]))):
         assert exit_ in ("tolerance", "jump")
+    # checked by fresh runs: inside at the edges, outside 1 nm beyond them (the edges are bracketed to 0.1 nm)
+    for H, inside in ((lo, True), (hi, True), (lo - 1e-9, False), (hi + 1e-9, False)):
+        t = first_impact_time(lubelink.resolve_config("paper-impact", {"film.clearance": H}), 1.4)
+        assert (abs(t - PAPER_IMPACT_TIME) <= 2e-3) == inside, (H, t)
 
 
 def test_paper_impact_reproduces_the_papers_first_impact():
