@@ -75,6 +75,19 @@ def test_branch_followed_into_no_impact():
     assert w.branch_times[1] == pytest.approx(1.1, abs=1e-8)
 
 
+def test_an_excursion_between_grid_points_splits_the_window():
+    """t1 leaves the window on [3.4, 3.6), between grid points: the interior check finds it."""
+
+    def t1(H):
+        if not 2.0 <= H < 5.0:
+            return math.inf
+        return 0.5 if 3.4 <= H < 3.6 else 1.05
+
+    ws = sorted(find_windows(t1, np.arange(0.0, 11.0), TARGET, TOL, dx=1e-3, xtol=1e-9), key=lambda w: w.lo)
+    assert [(round(w.lo, 6), round(w.hi, 6)) for w in ws] == [(2.0, 3.4), (3.6, 5.0)]
+    assert all((w.lo_exit, w.hi_exit) == ("jump", "jump") for w in ws)
+
+
 def test_phase_refinement_finds_a_window_hidden_between_other_turns():
     # 0.45, 0.65, 0.85 and 1.05 share the crank phase 0.05 s of a 0.2 s turn; the jumps between
     # them are searched, and the window at 8.4-8.6 appears

@@ -205,19 +205,20 @@ def find_windows(t1, clearances, target, tol, dx=5e-9, xtol=1e-10, jump=1e-3, su
             return last, "jump", (last, t(last), t(first))
         return last, "tolerance", branch_end(last, first, direction)
 
+    def runs(lo=-math.inf, hi=math.inf):
+        """(first, last) of every run of consecutive evaluations inside the window, within [lo, hi]."""
+        out, run = [], []
+        for H in sorted(memo):
+            if lo <= H <= hi and side(H) == 0:
+                run.append(H)
+            elif run:
+                out.append((run[0], run[-1]))
+                run = []
+        return out + ([(run[0], run[-1])] if run else [])
+
     windows = []
     # 3. runs of evaluations inside the window
-    hs = sorted(memo)
-    runs, run = [], []
-    for H in hs:
-        if side(H) == 0:
-            run.append(H)
-        elif run:
-            runs.append(run)
-            run = []
-    if run:
-        runs.append(run)
-    pending = [(r[0], r[-1]) for r in runs]
+    pending = runs()
     while pending:
         a, b = pending.pop()
         hs = sorted(memo)
@@ -225,12 +226,8 @@ def find_windows(t1, clearances, target, tol, dx=5e-9, xtol=1e-10, jump=1e-3, su
         lo, lo_exit, b_lo = edge(a, hs[ia - 1] if ia > 0 else None, -1)
         hi, hi_exit, b_hi = edge(b, hs[ib + 1] if ib + 1 < len(hs) else None, +1)
         cut = [H for H in np.linspace(lo, hi, int(check) + 2)[1:-1] if side(H) != 0]
-        if cut:  # an excursion inside: split there and bracket again
-            inside = sorted(H for H in memo if lo <= H <= hi and side(H) == 0)
-            left = [H for H in inside if H < cut[0]]
-            right = [H for H in inside if H > cut[0]]
-            pending += [(left[0], left[-1])] if left else []
-            pending += [(right[0], right[-1])] if right else []
+        if cut:  # excursions inside: split there and bracket again
+            pending += runs(lo, hi)
             continue
         centre = 0.5 * (lo + hi)
         windows.append(Window(lo=lo, hi=hi, lo_exit=lo_exit, hi_exit=hi_exit, centre=centre,
