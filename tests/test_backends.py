@@ -111,8 +111,8 @@ def test_paper_impact_first_impact_on_every_backend_method_and_tolerance(m, rtol
                                          "solver.backend": backend}))
         assert r.impacts, (backend, m, rtol)
         first[backend] = r.impacts[0][0]
-    # the first contact of paper-impact is a graze at 1.2378 s (the film 36 nm below min_film for 30 us)
-    assert first["numpy"] == pytest.approx(1.2378, abs=5e-4)
+    # the first impact of paper-impact is the paper's 1.273 s (within the 2 ms of its window, docs/paper.md)
+    assert first["numpy"] == pytest.approx(1.273, abs=2e-3)
     assert first["numba"] == pytest.approx(first["numpy"], abs=1e-6 if rtol > 1e-9 else 1e-9)
 
 

@@ -15,6 +15,8 @@ module             job
 =================  ===========================================================
 ``calibration``    first-impact time, Fig. 9's clearance calibration (root
                    finding) and its cache, the first-impact map
+``branches``       the windows of clearance where the first impact is at
+                   1.273 s, and the map over pad length and clearance
 ``variants``       the equations as printed (errata): ``simulate_variant``
 ``study``          every configuration simulated once; lubrication effect
 ``figures``        the figure builders and ``make_figures``
@@ -23,7 +25,8 @@ module             job
 =================  ===========================================================
 
 Every public name is importable from ``lubelink.paper`` itself. Only
-``calibration`` and ``variants`` call the simulation core directly.
+``calibration`` and ``variants`` call the simulation core directly
+(``branches`` runs it through ``calibration``).
 
 Paper: Marghitu & Guran, "The Dynamics of a Flexible Beam With a Lubricated
 Prismatic Kinematic Pair", J. Vibration and Acoustics, Section 6.
@@ -42,6 +45,7 @@ from .calibration import (  # noqa: F401
     first_impact_map,
     first_impact_time,
 )
+from .branches import Window, branch_map, find_windows, phase_refine, widest_window
 from .variants import VARIANTS, simulate_variant  # noqa: F401
 from .study import Study, lubrication_effect, lubrication_table
 from .figures import BUILDERS, FIGURES, RESOLUTIONS, FigureSet, make_figures  # noqa: F401
@@ -58,6 +62,11 @@ __all__ = [
     "calibrate_clearance",
     "calibrate_impact",
     "first_impact_map",
+    "Window",
+    "find_windows",
+    "phase_refine",
+    "branch_map",
+    "widest_window",
     "simulate_variant",
     "lubrication_effect",
     "lubrication_table",

@@ -371,7 +371,8 @@ def first_impact_map(viscosities, clearances, source="paper-impact", set=None, t
     xarray.Dataset
         ``first_impact`` [s] (``inf``: none before ``t_stop``) and ``phase``
         (time since the start of that crank turn [s]) on ``(viscosity,
-        clearance)``; ``attrs["period"]`` is the crank period [s].
+        clearance)``; ``attrs["period"]`` is the crank period [s],
+        ``attrs["pad_length"]`` the pad length [m].
     """
     import xarray as xr
 
@@ -394,7 +395,7 @@ def first_impact_map(viscosities, clearances, source="paper-impact", set=None, t
          "phase": (dims, phase, {"units": "s", "long_name": "time since the start of the crank turn"})},
         coords={"viscosity": ("viscosity", list(viscosities), {"units": "Pa s"}),
                 "clearance": ("clearance", list(clearances), {"units": "m"})},
-        attrs={"period": period, "t_stop": t_stop},
+        attrs={"period": period, "t_stop": t_stop, "pad_length": cfg.film.pad_length},
     )
 
 

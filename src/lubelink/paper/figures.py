@@ -46,9 +46,13 @@ RESOLUTIONS = {
         "modes": (1, 3, 5, 7),
         "modes_overrides": {"solver.rtol": 1e-7, "solver.atol": 1e-11},
         "lubrication": {"viscosities": (0.01, 0.1, 1.0), "clearances": (3e-3, 6e-3)},
-        "calibration": {"span": 0.01, "points": 9, "xtol": 1e-10, "max_brackets": 3},
+        # the scenario's clearance is the centre of a 14 um window of t1(H) = 1.273 s +- 2 ms
+        # (docs/paper.md): a grid of +-2.7 um stays inside it, so the root found is on that branch
+        "calibration": {"span": 5e-4, "points": 5, "xtol": 1e-10, "max_brackets": 3},
+        # the 50 mm pad, where one mode never breaks down at the paper's crank angle
         "impact_map": {"viscosities": (2.5e-3, 5e-3, 0.01, 0.015, 0.02),
-                       "clearances": tuple(np.round(np.arange(1.0e-3, 5.0001e-3, 0.05e-3), 8))},
+                       "clearances": tuple(np.round(np.arange(1.0e-3, 5.0001e-3, 0.05e-3), 8)),
+                       "set": {"film.pad_length": 0.05}},
     },
     "low": {
         "overrides": {"solver.t_end": 1.0, "solver.output_step": 5e-3, "solver.rtol": 1e-6,
@@ -58,8 +62,8 @@ RESOLUTIONS = {
         "modes": (1, 3, 5, 7),
         "modes_overrides": {"solver.t_end": 0.3},
         "lubrication": {"viscosities": (0.1,), "clearances": (6e-3,)},
-        "calibration": {"span": 0.004, "points": 3, "xtol": 1e-8, "max_brackets": 1},
-        "impact_map": {"viscosities": (0.015,), "clearances": (1.3e-3, 3e-3)},
+        "calibration": {"span": 5e-4, "points": 3, "xtol": 1e-8, "max_brackets": 1},
+        "impact_map": {"viscosities": (0.015,), "clearances": (1.3e-3, 3e-3), "set": {"film.pad_length": 0.05}},
     },
 }
 
@@ -146,7 +150,7 @@ def _fig9(study, res, ctx):
         cal = calibrate(refresh=True)
         ds = run(cal)
     ctx["calibration"] = cal
-    verdict = "reached" if cal.reached else f"not reachable, closest first impact {cal.first_impact:.4f} s"
+    verdict = "reached" if cal.reached else f"not reached here, closest first impact {cal.first_impact:.4f} s"
     note = (f"H = {cal.clearance * 1e3:.4f} mm (root finding on H), mu = {cal.viscosity * 1e3:g} mPa s; "
             f"paper's 1.273 s {verdict}")
     fig = plots.figure_impact(ds, target=PAPER_IMPACT_TIME, min_film=base.contact.min_film, note=note)
@@ -164,7 +168,8 @@ def _impact_map(study, res, ctx):
             bar.set_postfix_str(f"mu = {mu * 1e3:g} mPa s, H = {H * 1e3:.2f} mm: first impact {t:.4f} s")
 
     impacts = first_impact_map(m["viscosities"], m["clearances"], "paper-impact",
-                               {**study.overrides, **ctx.get("impact", {})}, t_stop=2.0, progress=progress)
+                               {**study.overrides, **ctx.get("impact", {}), **m.get("set", {})}, t_stop=2.0,
+                               progress=progress)
     return plots.figure_first_impact_map(impacts, target=PAPER_IMPACT_TIME), {"map": impacts}
 
 

@@ -159,5 +159,7 @@ def figure_first_impact_map(impacts, target=None, title=None):
         ax2.set_xlabel("crank angle at the first impact [deg]")
         ax2.set_ylabel("runs")
         n, hit = impacts.first_impact.size, int(np.isfinite(impacts.first_impact.values).sum())
-        fig.suptitle(title or f"First film breakdown from zero initial conditions: {hit} of {n} runs")
+        pad = impacts.attrs.get("pad_length")
+        where = "" if pad is None else f", pad {float(pad) * 1e3:g} mm"
+        fig.suptitle(title or f"First film breakdown from zero initial conditions{where}: {hit} of {n} runs")
     return fig
