@@ -160,6 +160,9 @@ RULES = {
         "max_step": _num(0, None, lo_open=True, allow_inf=True),
         "max_wall_time": _num(0, None, lo_open=True, allow_inf=True),
         "backend": _choice(CHOICES["solver.backend"]),
+        "max_deflection": _num(0, None, lo_open=True, allow_inf=True),
+        "max_slope": _num(0, None, lo_open=True, allow_inf=True),
+        "max_axial_strain": _num(0, None, lo_open=True, allow_inf=True),
     },
     "output": {
         "x_points": _num(2, 10001, integer=True),

@@ -189,7 +189,8 @@ class Contact:
     min_film : float
         Film thickness at which the film breaks down [m] (``xi_min``).
     chatter_interval : float
-        Impacts closer in time than this end the run as chattering [s].
+        Impacts closer in time than this are a Zeno sequence: the link then rides on the
+        collar (sustained contact) while the contact force is positive [s].
     stiffness : float
         Contact stiffness of the compliant law [N/m^exponent] (``K``).
     exponent : float
@@ -244,6 +245,14 @@ class Solver:
     backend : str
         ``"auto"`` (the compiled Numba path where it applies), ``"numba"``
         or ``"numpy"`` (the reference right-hand side).
+    max_deflection : float
+        Largest ``max |u2| / L`` of the linear theory's domain [-]; ``inf``: not checked.
+    max_slope : float
+        Largest ``max |u2'|`` [-] (rad); ``inf``: not checked.
+    max_axial_strain : float
+        Largest mean stretching strain ``1/(2L) int u2'^2 dx`` [-]; ``inf``: not checked.
+        A run whose state leaves the domain stops with status ``out_of_domain``
+        (:func:`lubelink.beam.linear_domain`, docs/breakdown.md).
     """
 
     method: str = "auto"
@@ -254,6 +263,9 @@ class Solver:
     max_step: float = math.inf
     max_wall_time: float = math.inf
     backend: str = "auto"
+    max_deflection: float = 0.05
+    max_slope: float = 0.15
+    max_axial_strain: float = 0.005
 
 
 @dataclass(frozen=True)

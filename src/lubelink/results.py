@@ -51,6 +51,9 @@ VARIABLES = {
     "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's)"),
     "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
     "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
+    "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
+    "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
+                                              "face (sustained or compliant contact)"),
     "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
     "impact_position": Variable(("impact",), "m", "contact point on the link"),
     "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
@@ -171,6 +174,11 @@ def collect(result) -> Results:
             data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
         force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
         data["film_force"] = _entry("film_force", force)
+    if cfg.contact.law != "none":
+        side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
+        data["contact_phase"] = _entry("contact_phase", (side != 0).astype(np.int8),
+                                       flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="free contact")
+        data["contact_force"] = _entry("contact_force", _contact_force(result, model, t, y, side))
     imp = result.impacts
     coords["impact"] = _entry("impact", np.arange(len(imp)))
     data["impact_time"] = _entry("impact_time", [i[0] for i in imp])
@@ -200,6 +208,20 @@ def collect(result) -> Results:
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
+
+
+def _contact_force(result, model, t, y, side):
+    """Contact force at every sample [N]: the sustained contact's multiplier or the compliant force, 0 when free."""
+    force = np.zeros(t.size)
+    inside = np.flatnonzero(side != 0)
+    if inside.size == 0:
+        return force
+    if model.config.contact.law == "restitution":
+        force[inside] = model.sustained_force(t[inside], y[inside], side[inside], result.phase_point[inside])
+    else:
+        for i in inside:
+            force[i] = model.contact_force(t[i], y[i], (side[i], result.phase_v[i]))[1]
+    return force
 
 
 #: zlib level of every variable in a results file (level 1-4 halve the file; higher gains little).
