@@ -62,6 +62,13 @@ SCENARIOS: dict[str, dict] = {
                  "viscosity": PAPER_IMPACT_VISCOSITY},
         "contact": {"law": "restitution", "restitution": 0.7},
     },
+    "lubricated": {
+        "description": "For engineering: the paper's mechanism with the full film (wedge and squeeze), "
+                       "cavitation near ambient, rough surfaces (mixed lubrication), impacts and sustained contact",
+        "film": {"model": "wedge+squeeze", "cavitation": "half-sommerfeld", "cavitation_pressure": 1.0e5,
+                 "roughness": 1.0e-6, "thickness_floor": 1.0e-6},
+        "contact": {"law": "restitution", "restitution": 0.7, "min_film": 2.0e-7},
+    },
 }
 
 
@@ -140,6 +147,11 @@ RULES = {
         "cavitation": _choice(CHOICES["film.cavitation"]),
         "cavitation_pressure": _num(0, 1e9),
         "grid_points": _num(11, 100001, integer=True),
+        "thickness_floor": _num(0, 1e-2),
+        "roughness": _num(0, 1e-3),
+        "summit_product": _num(0, 1, lo_open=True),
+        "summit_ratio": _num(0, 1, lo_open=True),
+        "contact_modulus": _num(0, 1e13, lo_open=True),
     },
     "collar": {"mass": _num(0, 1e6)},
     "contact": {

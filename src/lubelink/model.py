@@ -28,6 +28,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _jit, beam, contact, film
+from .film import asperity
 from ._jit import jitable, kernel
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
 from .params import CHOICES, Config, kernel_view
@@ -128,6 +129,7 @@ def rhs_given(t, kin, y, out, p):
     film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
     if p.model.equations == PRINTED_FILM_SIGN:
         F *= -1.0
+    asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, L, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)

@@ -143,6 +143,22 @@ class Film:
         Absolute cavitation pressure [Pa] (``p_cav``).
     grid_points : int
         Grid points on the pad for the ``"reynolds"`` cavitation solver [-].
+    thickness_floor : float
+        ``h_f`` [m]: below ``2 h_f`` the Reynolds equation sees the effective film
+        ``h_f + xi^2/(4 h_f)``, never thinner than ``h_f``
+        (:func:`lubelink.film.reynolds.effective_film`); 0: the film as it is. The default, half
+        the default ``contact.min_film``, leaves every film above ``min_film`` unchanged.
+    roughness : float
+        Combined RMS roughness of the two surfaces [m] (``sigma``); 0: smooth, no asperity
+        contact. With ``sigma > 0`` the asperities carry the Greenwood-Tripp pressure
+        (:mod:`lubelink.film.asperity`) beside the film (mixed lubrication).
+    summit_product : float
+        ``eta beta sigma`` [-], asperity density times summit radius times roughness (0.03-0.05).
+    summit_ratio : float
+        ``sigma / beta`` [-], roughness over summit radius (1e-4-1e-2).
+    contact_modulus : float
+        Composite elastic modulus ``E'`` of the Greenwood-Tripp pressure [Pa]
+        (``1/E' = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2``; two steels: 1.14e11).
     """
 
     model: str = "wedge"
@@ -156,6 +172,11 @@ class Film:
     cavitation: str = "none"
     cavitation_pressure: float = 0.0
     grid_points: int = 201
+    thickness_floor: float = 2.5e-6
+    roughness: float = 0.0
+    summit_product: float = 0.04
+    summit_ratio: float = 1e-3
+    contact_modulus: float = 1.14e11
 
     @property
     def enabled(self) -> bool:

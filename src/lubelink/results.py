@@ -51,6 +51,8 @@ VARIABLES = {
     "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's)"),
     "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
     "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
+    "asperity_force": Variable(("time",), "N", "resultant asperity contact force on the link along +j "
+                                                "(Greenwood-Tripp, mixed lubrication)"),
     "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
     "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
                                               "face (sustained or compliant contact)"),
@@ -174,6 +176,11 @@ def collect(result) -> Results:
             data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
         force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
         data["film_force"] = _entry("film_force", force)
+    if fm.roughness > 0.0:
+        from .film.asperity import asperity_force_many
+
+        data["asperity_force"] = _entry("asperity_force", _select(asperity_force_many, compiled)(
+            np.ascontiguousarray(q), x_star, p.film, p.beam.width, p.pad, L))
     if cfg.contact.law != "none":
         side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
         data["contact_phase"] = _entry("contact_phase", (side != 0).astype(np.int8),
