@@ -83,19 +83,20 @@ def test_modal_asperity_force_against_adaptive_quadrature():
 
 
 def test_load_share_moves_from_film_to_asperities_as_the_gap_closes():
-    # the link squeezing towards the collar at 1 mm/s, collar at rest: film and asperity loads
+    # the link closing the gap slowly (10 nm/s), collar at rest: film and asperity loads; the
+    # film floor at sigma keeps the film force finite below the roughness scale
     from lubelink import film
 
-    m = _model()
+    m = _model(thickness_floor=1e-6)
     p, cfg = m.params, m.config
     B, H = cfg.beam.width, cfg.film.clearance
     shares = []
     for gap_sigma in (6.0, 4.0, 3.0, 2.0, 1.0, 0.5, 0.0, -1.0):
         q = np.array([H / 2 - gap_sigma * 1e-6, 0.0, 0.0])
-        q_dot = np.array([1e-3, 0.0, 0.0])
+        q_dot = np.array([1e-8, 0.0, 0.0])
         film_load = film.modal_film_force(q, q_dot, 0.475, 0.0, p.film, B, p.pad, 1.0, np.zeros(3))
         asp_load = asperity.modal_asperity_force(q, 0.475, p.film, B, p.pad, 1.0, np.zeros(3))
         assert np.isfinite(film_load) and film_load < 0 and asp_load <= 0
         shares.append(asp_load / (asp_load + film_load))
-    assert shares[0] < 1e-6 and shares[-1] > 0.5
+    assert shares[0] < 1e-6 and shares[-1] > 0.9
     assert np.all(np.diff(shares) > 0)

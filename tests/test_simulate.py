@@ -169,3 +169,20 @@ def test_collar_mass_loads_the_link_at_the_collar(short):
     bare = lubelink.simulate("paper", set=base)
     heavy = lubelink.simulate("paper", set={**base, "collar.mass": 0.5})
     assert float(np.abs(heavy.u2_mid - bare.u2_mid).max()) > 1e-5
+
+
+AUDIT = {"film.pad_length": 0.12, "film.viscosity": 0.014, "film.clearance": 4.2725438e-3, "beam.modes": 1,
+         "contact.law": "compliant", "solver.t_end": 1.35}
+
+
+@pytest.mark.parametrize("film", [{}, {"film.model": "wedge+squeeze"},
+                                  {"film.cavitation": "half-sommerfeld", "film.cavitation_pressure": 1e5},
+                                  {"film.model": "wedge+squeeze", "film.cavitation": "reynolds",
+                                   "film.cavitation_pressure": 1e5},
+                                  {"film.sides": 2},
+                                  {"film.model": "wedge+squeeze", "film.roughness": 1e-6}])
+def test_compliant_contact_with_a_film_runs_through_breakdown(film):
+    # issue 17's audit case: the film used to collapse under the compliant penetration (solver_failure)
+    r = run(resolve("paper", {**AUDIT, **film}))
+    assert r.status == "complete", r.message
+    assert np.all(np.isfinite(r.y))

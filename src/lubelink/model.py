@@ -191,11 +191,23 @@ def sustained_given(t, kin, A_r, y, out, p, side, point):
 
 
 @jitable
+def _sustained_term(phase, t, kin, A_r, y, out, p):
+    """:func:`sustained_given` of ``phase`` if it is a sustained contact: ``(True, force [N])``, else ``(False, 0)``.
+
+    ``phase`` None (no contact law with phases) compiles to nothing.
+    """
+    if phase is None:
+        return False, 0.0
+    if phase.side == 0.0 or p.contact.law != contact.RESTITUTION:
+        return False, 0.0
+    return True, sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
+
+
+@jitable
 def rhs_with(t, kin, A_r, y, out, p):
     """``dy/dt`` into ``out``: :func:`rhs_given` and, in a sustained contact, its constraint force."""
     rhs_given(t, kin, y, out, p)
-    if in_sustained(p.phase, p.contact.law):
-        sustained_given(t, kin, A_r, y, out, p, p.phase.side, p.phase.point)
+    _sustained_term(p.phase, t, kin, A_r, y, out, p)
 
 
 @jitable
@@ -204,7 +216,7 @@ def event_with(t, kin, A_r, y, p):
     if in_sustained(p.phase, p.contact.law):
         out = np.empty(y.shape[0])
         rhs_given(t, kin, y, out, p)
-        return sustained_given(t, kin, A_r, y, out, p, p.phase.side, p.phase.point), 0.0, np.inf
+        return _sustained_term(p.phase, t, kin, A_r, y, out, p)[1], 0.0, np.inf
     return gap_given(t, kin, y, p)
 
 
