@@ -186,3 +186,10 @@ def test_compliant_contact_with_a_film_runs_through_breakdown(film):
     r = run(resolve("paper", {**AUDIT, **film}))
     assert r.status == "complete", r.message
     assert np.all(np.isfinite(r.y))
+
+
+def test_paper_impact_runs_to_its_end():
+    # issue 17: the restitution run used to stop with `chatter` after its first impact
+    ds = lubelink.simulate("paper-impact")
+    assert ds.attrs["status"] == "complete", ds.attrs["message"]
+    assert float(ds.time[-1]) == pytest.approx(2.0) and ds.attrs["impact_count"] >= 1
