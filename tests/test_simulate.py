@@ -80,23 +80,26 @@ def _resting(N, delta, t_end):
 
 def test_a_link_resting_on_the_collar_settles_to_the_static_solution():
     # independent reference: a pinned-pinned Euler-Bernoulli beam under its weight w, propped at
-    # mid-span where it may sag by delta: prop force R = (5 w L^4 / 384 EI - delta) 48 EI / L^3
-    # (the 5 w L / 8 of the two-span continuous beam for delta = 0); the sine series converges to it
+    # x = a (the contact point, where the sustained contact began) where it may sag by delta:
+    # prop force R = (w a (L^3 - 2 L a^2 + a^3) / 24 EI - delta) / (a^2 (L - a)^2 / 3 EI L)
+    # (5 w L / 8 at mid-span for delta = 0); the sine series converges to it
     N, delta = 5, 1e-5
     cfg, r = _resting(N, delta, 1.2)
     assert r.status == "complete" and len(r.contacts) >= 1 and np.isnan(r.contacts[-1][1])
+    a = [i[1] for i in r.impacts if i[0] == r.contacts[-1][0]][0]
+    assert 0.475 <= a <= 0.525
     ds = lubelink.results.to_dataset(r)
     b, L = cfg.beam, cfg.mechanism.rod_length
     w, EI = b.density * b.area * 9.81, b.youngs_modulus * b.second_moment
-    R = (5 * w * L**4 / (384 * EI) - delta) * 48 * EI / L**3
+    R = (w * a * (L**3 - 2 * L * a**2 + a**3) / (24 * EI) - delta) / (a**2 * (L - a) ** 2 / (3 * EI * L))
     assert ds.contact_phase.values[-1] == 1
     assert ds.contact_force.values[-1] == pytest.approx(R, rel=5e-3)
-    assert ds.u2_mid.values[-1] == pytest.approx(delta, rel=1e-6)
-    # truncation of the series: the modal static solution itself, to rounding
     beta = np.arange(1, N + 1) * np.pi / L
+    s = np.sin(beta * a)
+    assert s @ ds.q.values[-1] == pytest.approx(delta, rel=1e-6)  # held on the collar at a
+    # truncation of the series: the modal static solution itself, to rounding
     k = EI * beta**4 * L / 2
     Q = w * (1 - np.cos(beta * L)) / beta
-    s = np.sin(beta * L / 2)
     lam = (Q @ (s / k) - delta) / (s @ (s / k))
     assert ds.contact_force.values[-1] == pytest.approx(lam, rel=1e-5)
     assert lam == pytest.approx(R, rel=5e-3)
