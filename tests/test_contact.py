@@ -78,3 +78,42 @@ def test_approach_velocity_is_minus_gap_rate(edge):
     rate = (gaps[1] - gaps[0]) / (2 * dt)
     v = contact.approach_velocity(q, q_dot, x_c, V if at_edge else 0.0, L)
     assert v == pytest.approx(-rate, rel=1e-5)
+
+
+@pytest.mark.parametrize("N", [1, 3, 6])
+@pytest.mark.parametrize("e", [0.0, 0.7, 1.0])
+def test_energy_change_of_an_edge_impact_is_the_loss_plus_the_collar_work(N, e):
+    # the kinetic energy before and after the jump, computed directly, against the closed form;
+    # an edge contact (V_c = V_r) and an interior one (V_c = 0: the classical loss)
+    rng = np.random.default_rng(N)
+    q = 1e-3 * rng.standard_normal(N)
+    x_c, V_r, mass = 0.37, 2.5, 0.38
+    beta = np.arange(1, N + 1) * np.pi / L
+    s = np.sin(beta * x_c)
+    slope = np.sum(beta * np.cos(beta * x_c) * q)
+    for V_c in (V_r, 0.0):
+        q_dot = rng.standard_normal(N) * 0.01
+        v = contact.approach_velocity(q, q_dot, x_c, V_c, L)
+        assert v == pytest.approx(s @ q_dot + slope * V_c, rel=1e-12)
+        if v <= 0:
+            q_dot = -q_dot
+            v = contact.approach_velocity(q, q_dot, x_c, V_c, L)
+        after = contact.restitution_jump(q_dot, x_c, v, e, L)
+        direct = modal_kinetic(after, mass) - modal_kinetic(q_dot, mass)
+        change = contact.impact_energy_change(v, slope * V_c, x_c, e, N, mass, L)
+        assert change == pytest.approx(direct, rel=1e-10, abs=1e-18)
+        if V_c == 0.0:
+            assert change == pytest.approx(-contact.impact_energy_loss(v, x_c, e, N, mass, L), rel=1e-12)
+
+
+def test_an_edge_impact_can_give_the_link_energy():
+    # the collar corner slides over the sloped link: approach driven by u2' V_r, link at rest
+    N, x_c, mass, e = 1, 0.3, 0.38, 0.7
+    q, q_dot = np.array([2e-3]), np.array([0.0])
+    V_r = 1.0
+    v = contact.approach_velocity(q, q_dot, x_c, V_r, L)
+    assert v > 0
+    after = contact.restitution_jump(q_dot, x_c, v, e, L)
+    gain = modal_kinetic(after, mass) - modal_kinetic(q_dot, mass)
+    assert gain > 0 > -contact.impact_energy_loss(v, x_c, e, N, mass, L)
+    assert contact.impact_energy_change(v, v, x_c, e, N, mass, L) == pytest.approx(gain, rel=1e-12)

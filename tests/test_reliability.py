@@ -30,7 +30,8 @@ def motion(A_O2):
 
 
 def simulated(set_, motion=None):
-    ds = lubelink.simulate("paper", set=set_, motion=motion)
+    set_ = dict(set_)
+    ds = lubelink.simulate(set_.pop("scenario", "paper"), set=set_, motion=motion)
     return ds.attrs["status"], ds.attrs["message"]
 
 
@@ -122,11 +123,14 @@ def cases(tmp):
         ("output exists", "`lubelink run -o exists.nc`", cli("run", "-o", "exists.nc", cwd=tmp)),
         ("film breakdown, no contact law", "wedge film, `film.viscosity = 1e-3`, `film.clearance = 4.6e-3`",
          simulated({"film.viscosity": 1e-3, "film.clearance": 4.6e-3, "solver.t_end": 0.5})),
-        ("chattering impacts", "dry, `contact.restitution = 0`, `film.clearance = 3.6e-3`",
+        ("impacts accumulate (Zeno): sustained contact", "dry, `contact.restitution = 0`, `film.clearance = 3.6e-3`",
          simulated({**dry_gap, "contact.law": "restitution", "contact.restitution": 0.0})),
+        ("beyond the linear theory", "`paper-impact`, `mechanism.crank_speed = -3000`, `solver.t_end = 0.2`",
+         simulated({"scenario": "paper-impact", "mechanism.crank_speed": -3000, "solver.t_end": 0.2})),
         ("wall-time budget", "`solver.max_wall_time = 1e-9`", simulated({"solver.max_wall_time": 1e-9})),
-        ("step-size underflow", "user motion with `A_O2 = 1/(0.01 - t)^3`",
-         simulated({"film.model": "none", "solver.t_end": 0.02},
+        ("step-size underflow", "user motion with `A_O2 = 1/(0.01 - t)^3`, domain limits off",
+         simulated({"film.model": "none", "solver.t_end": 0.02, "solver.max_deflection": np.inf,
+                    "solver.max_slope": np.inf, "solver.max_axial_strain": np.inf},
                    motion(lambda t: 1.0 / (0.01 - np.asarray(t)) ** 3))),
         ("non-finite load", "user motion returning NaN after 5 ms",
          simulated({"film.model": "none", "solver.t_end": 0.02},

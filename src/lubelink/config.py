@@ -64,6 +64,13 @@ SCENARIOS: dict[str, dict] = {
                  "viscosity": PAPER_IMPACT_VISCOSITY, "pad_length": PAPER_IMPACT_PAD_LENGTH},
         "contact": {"law": "restitution", "restitution": 0.7},
     },
+    "lubricated": {
+        "description": "For engineering: the paper's mechanism with the full film (wedge and squeeze), "
+                       "cavitation near ambient, rough surfaces (mixed lubrication), impacts and sustained contact",
+        "film": {"model": "wedge+squeeze", "cavitation": "half-sommerfeld", "cavitation_pressure": 1.0e5,
+                 "roughness": 1.0e-6, "thickness_floor": 1.0e-6},
+        "contact": {"law": "restitution", "restitution": 0.7, "min_film": 2.0e-7},
+    },
 }
 
 
@@ -153,6 +160,11 @@ RULES = {
         "reynolds": _choice(CHOICES["film.reynolds"]),
         "width_modes": _num(1, 200, integer=True),
         "width_points": _num(4, 4096, integer=True),
+        "thickness_floor": _num(0, 1e-2),
+        "roughness": _num(0, 1e-3),
+        "summit_product": _num(0, 1, lo_open=True),
+        "summit_ratio": _num(0, 1, lo_open=True),
+        "contact_modulus": _num(0, 1e13, lo_open=True),
     },
     "collar": {"mass": _num(0, 1e6)},
     "contact": {
@@ -173,6 +185,9 @@ RULES = {
         "max_step": _num(0, None, lo_open=True, allow_inf=True),
         "max_wall_time": _num(0, None, lo_open=True, allow_inf=True),
         "backend": _choice(CHOICES["solver.backend"]),
+        "max_deflection": _num(0, None, lo_open=True, allow_inf=True),
+        "max_slope": _num(0, None, lo_open=True, allow_inf=True),
+        "max_axial_strain": _num(0, None, lo_open=True, allow_inf=True),
     },
     "output": {
         "x_points": _num(2, 10001, integer=True),

@@ -9,6 +9,12 @@ down when it reaches ``xi_min`` (``contact.min_film``). Then either
 * the compliant Lankarani-Nikravesh force (:func:`lankarani_nikravesh`), switched on while the
   film is below ``xi_min``.
 
+When restitution impacts accumulate (a Zeno sequence: two impacts closer than
+``contact.chatter_interval``), the link rides on the collar: sustained contact, a unilateral
+constraint ``xi_min = min_film`` at the contact point whose multiplier is the contact force
+(:func:`constraint_force`); the contact ends when that force falls to zero (docs/model.md
+section 5, docs/breakdown.md).
+
 :class:`ContactLogic` is what the orchestrator asks at every zero of the gap: what to do next.
 """
 
@@ -31,6 +37,8 @@ __all__ = [
     "gap_rate_bound",
     "restitution_jump",
     "impact_energy_loss",
+    "impact_energy_change",
+    "constraint_force",
     "lankarani_nikravesh",
     "compliant_force",
     "ContactLogic",
@@ -204,11 +212,88 @@ def restitution_jump(q_dot, x_c, v_minus, restitution, rod_length):
 def impact_energy_loss(v_minus, x_c, restitution, modes, mass, rod_length):
     """Energy lost in one impact at an interior contact [J]: ``(1 - e^2)/2 * m / sum s_m^2 * (v_c^-)^2``.
 
-    ``mass`` is the modal mass ``rho A L / 2`` [kg]. At a pad edge the sliding collar does work
-    on the link as well (:meth:`ContactLogic` records both).
+    ``mass`` is the modal mass ``rho A L / 2`` [kg]. It holds where ``u2'(x_c) = 0`` (an
+    interior extremum of the film) only; at a pad edge see :func:`impact_energy_change`.
     """
     s = np.sin(np.arange(1, modes + 1) * np.pi / rod_length * x_c)
     return 0.5 * (1.0 - restitution**2) * mass / np.sum(s * s) * v_minus**2
+
+
+@jitable
+def impact_energy_change(v_minus, slope_velocity, x_c, restitution, modes, mass, rod_length):
+    """Change of the link's vibration energy in one impact [J], at any contact point.
+
+    ``Delta E = -(1 - e^2)/2 m_eff v^2 + (1 + e) m_eff v w`` with ``m_eff = m / sum s_m^2``,
+    ``v = v_c^-`` the approach velocity and ``w = side u2'(x_c) V_c`` [m/s] its part due to the
+    contact point sliding along the sloped link (``V_c = V_r`` at a pad edge, 0 inside the pad).
+    The first term is the loss at an interior contact (:func:`impact_energy_loss`); the second
+    is the work of the impulse ``(1 + e) m_eff v`` through the link's own normal velocity
+    ``v - w`` instead of ``v``: at a pad edge the sliding collar drives the approach, and the
+    link gains energy when ``w > (1 - e) v / 2``.
+    """
+    s = np.sin(np.arange(1, modes + 1) * np.pi / rod_length * x_c)
+    m_eff = mass / np.sum(s * s)
+    return -0.5 * (1.0 - restitution**2) * m_eff * v_minus**2 + (1.0 + restitution) * m_eff * v_minus * slope_velocity
+
+
+@jitable
+def constraint_force(q, q_dot, acc, x_c, at_edge, envelope, side, gap, V_r, A_r, rate, mass, rod_length):
+    """Contact force of a sustained contact [N] (>= 0 pushes the link away from the collar face).
+
+    The constraint is ``g = xi_min - min_film = 0`` at the contact point ``x_c`` (the thinnest
+    film). With ``u2``'s time and space derivatives at ``x_c`` (``u2_t``, ``u2_t'``, ``u2_tt``
+    from ``q_dot`` and the accelerations ``acc`` without contact force), the free second
+    derivative of the gap is ``g_tt = -side (u2_tt + c)``, where the convective part ``c`` is
+
+    * at a pad edge (``x_c`` moving with the collar, ``dx_c/dt = V_r``):
+      ``2 u2_t' V_r + u2'' V_r^2 + u2' A_r``;
+    * inside the pad: 0 at a material point; ``-u2_t'^2 / u2''`` if ``envelope`` (``x_c`` the
+      film's extremum ``u2' = 0``, which moves at ``-u2_t'/u2''``).
+
+    The force ``lambda`` acts on the modal accelerations as ``-side lambda s_n / m``
+    (``s_n = sin(beta_n x_c)``), which adds ``lambda sum s_n^2 / m`` to ``g_tt``. It is the one
+    that makes ``g_tt + 2 a g_t + a^2 g = 0`` (Baumgarte's stabilisation, rate ``a = rate`` [1/s],
+    which pulls the drift of ``g`` and ``g_t`` back to the constraint):
+    ``lambda = m_eff (-(g_tt + 2 a g_t + a^2 g))``, ``m_eff = m / sum s_n^2``.
+
+    Parameters
+    ----------
+    q, q_dot, acc : ndarray, shape ``(N,)``
+        Modal coordinates [m], velocities [m/s] and accelerations without the contact [m/s^2].
+    x_c : float
+        Contact point [m].
+    at_edge : bool
+        Whether ``x_c`` is a pad edge.
+    envelope : bool
+        Inside the pad, whether ``x_c`` follows the film's extremum (else a material point).
+    side : float
+        Film side (+1, -1).
+    gap : float
+        ``xi_min - min_film`` [m].
+    V_r, A_r : float
+        Collar velocity [m/s] and acceleration [m/s^2] relative to the link.
+    rate : float
+        Baumgarte rate ``a`` [1/s].
+    mass : float
+        Modal mass [kg].
+    rod_length : float
+        [m].
+    """
+    _, d1, d2 = _u2_derivatives(q, x_c, rod_length)
+    ut, ut1, _ = _u2_derivatives(q_dot, x_c, rod_length)
+    utt = _u2_derivatives(acc, x_c, rod_length)[0]
+    if at_edge:
+        conv = 2.0 * ut1 * V_r + d2 * V_r * V_r + d1 * A_r
+        g_t = -side * (ut + d1 * V_r)
+    else:
+        conv = -ut1 * ut1 / d2 if envelope and side * d2 < 0.0 else 0.0
+        g_t = -side * ut
+    g_tt = -side * (utt + conv)
+    s2 = 0.0
+    for n in range(q.shape[0]):
+        sn = np.sin((n + 1) * np.pi / rod_length * x_c)
+        s2 += sn * sn
+    return -mass / s2 * (g_tt + 2.0 * rate * g_t + rate * rate * gap)
 
 
 @jitable
@@ -259,16 +344,24 @@ def compliant_force(q, q_dot, x0, V_r, f, c, pad, rod_length, side, v_minus, F):
 
 @dataclass
 class ContactLogic:
-    """What happens at a zero of the gap: the contact law's response, and the record of impacts.
+    """What happens at a zero of the event: the contact law's response, and the record of impacts.
 
     :meth:`on_event` is called with the states on both sides of the located zero. It returns
-    ``(status, message, t, y, phase)``: ``status`` None to go on from ``(t, y)`` with the
-    compliant ``phase`` (None outside contact), or the reason to stop (``"film_breakdown"``,
-    ``"chatter"``).
+    ``(status, message, t, y, phase)``: ``status`` None to go on from ``(t, y)`` in ``phase``
+    ``(side, v_minus)`` (None outside contact: a compliant contact, or a sustained contact of
+    the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``).
+    ``contacts`` lists ``[t_start, t_end, side]`` of every contact phase (``t_end`` NaN while it lasts).
+
+    Restitution law: two impacts closer than ``contact.chatter_interval`` are a Zeno sequence;
+    the impact is then made plastic (``e = 0``, the gap's rate set to zero) and, if the contact
+    force that keeps the link on the collar is positive, a sustained contact begins, which ends
+    at the next event (the force falling to zero). ``chatter`` is left for a run whose impacts
+    exceed ``max_impacts``.
     """
 
     model: object
     impacts: list = field(default_factory=list)
+    contacts: list = field(default_factory=list)
     max_impacts: int = 100_000
 
     def on_event(self, t_before, y_before, t_after, y_after, phase):
@@ -284,9 +377,14 @@ class ContactLogic:
             v, x_c, side = model.approach(t_after, y_after)
             if phase is None:  # the film closes: contact from the first state below min_film
                 self.impacts.append([t_after, x_c, v, np.nan, side, y_after[:N].copy(), y_after[N:].copy(), None])
+                self.contacts.append([t_after, np.nan, side])
                 return None, "", t_after, y_after, (side, v)
             self.impacts[-1][3] = v  # the film reopens
             self.impacts[-1][7] = y_after[N:].copy()
+            self.contacts[-1][1] = t_after
+            return None, "", t_after, y_after, None
+        if phase is not None:  # a sustained contact ends: its force fell to zero
+            self.contacts[-1][1] = t_after
             return None, "", t_after, y_after, None
         # restitution: the jump applies to the last state above min_film, so the gap then opens
         y_plus, x_c, v_minus, side = model.impact(t_before, y_before)
@@ -294,10 +392,17 @@ class ContactLogic:
         previous = self.impacts[-1][0] if self.impacts else -np.inf
         self.impacts.append([t_before, x_c, v_minus, v_plus, side, y_before[:N].copy(), y_before[N:].copy(),
                              y_plus[N:].copy()])
-        if t_before - previous < ct.chatter_interval or len(self.impacts) > self.max_impacts:
+        if len(self.impacts) > self.max_impacts:
             return ("chatter",
-                    f"impacts at t = {previous:.12g} s and {t_before:.12g} s are closer than "
-                    f"contact.chatter_interval = {ct.chatter_interval} s: the link chatters (sustained "
-                    "contact), which the restitution law cannot resolve; try contact.law = 'compliant'",
-                    t_before, y_before, None)
+                    f"more than {self.max_impacts} impacts by t = {t_before:.12g} s, the last two "
+                    f"{t_before - previous:.3g} s apart, without a sustained contact (its force stays "
+                    "negative); try contact.law = 'compliant'", t_before, y_before, None)
+        if t_before - previous < ct.chatter_interval:  # Zeno: ride on the collar if it pushes back
+            y_rest = model.impact(t_before, y_before, restitution=0.0)[0]
+            point = model.contact_point(t_before, y_before)
+            if model.sustained_force(t_before, y_rest, side, point)[0] > 0.0:
+                self.impacts[-1][3] = min(v_minus, 0.0)
+                self.impacts[-1][7] = y_rest[N:].copy()
+                self.contacts.append([t_before, np.nan, side])
+                return None, "", t_before, y_rest, (side, 0.0, point)
         return None, "", t_before, y_plus, None

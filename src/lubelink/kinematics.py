@@ -38,6 +38,7 @@ __all__ = [
     "SampledMotion",
     "sampled_motion",
     "collar_travel",
+    "collar_acceleration",
 ]
 
 #: ``MotionTable.kind`` of the closed-form slider-crank and of a sampled (spline) motion.
@@ -195,6 +196,30 @@ def _motion(t, m, knots, coef):
             piecewise_cubic(t, knots, coef, 6), np.nan)
 
 
+@jitable
+def collar_acceleration(t, m):
+    """``A_r = dV_r/dt`` [m/s^2], the collar's acceleration relative to the link, for the motion table ``m``.
+
+    The slider-crank's closed form, or the derivative of the ``V_r`` spline of a sampled motion.
+    """
+    return _collar_acceleration(t, m, m.knots, m.coef)
+
+
+@jitable
+def _collar_acceleration(t, m, knots, coef):
+    """:func:`collar_acceleration` with the spline tables as arguments (None: the slider-crank)."""
+    if knots is None:
+        return slider_crank_state(t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)[7]
+    n = knots.shape[0] - 1
+    i = np.searchsorted(knots, t, side="right") - 1
+    if i < 0:
+        i = 0
+    elif i > n - 1:
+        i = n - 1
+    dx = t - knots[i]
+    return (3.0 * coef[4, 0, i] * dx + 2.0 * coef[4, 1, i]) * dx + coef[4, 2, i]
+
+
 @dataclass(frozen=True)
 class SliderCrank:
     """The paper's slider-crank as a motion provider."""
@@ -278,6 +303,10 @@ class PrescribedMotion:
 
     def joint_reaction(self, t, mass):
         return self._value(self.reaction, t)
+
+    def collar_acceleration(self, t, h=1e-6):
+        """``dV_r/dt`` [m/s^2] at ``t`` [s]: central difference of the callable ``V_r`` over ``2 h`` [s]."""
+        return (float(self._value(self.V_r, t + h)) - float(self._value(self.V_r, t - h))) / (2.0 * h)
 
     def kinematics(self, t):
         """The tuple of :func:`motion_at` at one time ``t`` [s], from the callables."""

@@ -28,9 +28,10 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _jit, beam, contact, film
+from .film import asperity
 from ._jit import jitable, kernel
 from .errors import BackendError
-from .kinematics import MotionTable, SliderCrank, motion_at
+from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
 from .params import CHOICES, Config, kernel_view
 
 __all__ = ["Params", "Basis", "ContactPhase", "Model", "build_model", "rhs", "gap", "rhs_given", "BackendError"]
@@ -51,10 +52,17 @@ class Basis(NamedTuple):
 
 
 class ContactPhase(NamedTuple):
-    """A compliant contact in progress: ``side`` (+1, -1; 0 for none) and its approach velocity [m/s]."""
+    """A contact in progress: ``side`` (+1, -1; 0 for none), its approach velocity [m/s] and point.
+
+    Under ``contact.law = "compliant"`` the compliant force acts; under ``"restitution"`` the link
+    rides on the collar (sustained contact, :func:`lubelink.contact.constraint_force`) at
+    ``point``: the material point of the link [m] where the contact began inside the pad, or
+    :data:`PAD_START` / :data:`PAD_END` for a pad edge (which slides with the collar).
+    """
 
     side: float
     v_minus: float
+    point: float = 0.0
 
 
 Phase = ContactPhase
@@ -80,7 +88,16 @@ class Params(NamedTuple):
     phase: ContactPhase | None
 
 
-NO_PHASE = ContactPhase(0.0, 0.0)
+NO_PHASE = ContactPhase(0.0, 0.0, 0.0)
+#: :attr:`ContactPhase.point` of a sustained contact at the start and at the end of the pad.
+PAD_START, PAD_END = -1.0, -2.0
+
+
+def contact_point(x_c, at_edge, x0, pad_length):
+    """:attr:`ContactPhase.point` of a contact at ``x_c`` [m] (``at_edge``: a pad edge; pad from ``x0``)."""
+    if not at_edge:
+        return float(x_c)
+    return PAD_START if abs(x_c - x0) <= abs(x_c - x0 - pad_length) else PAD_END
 
 
 # --- the right-hand side ----------------------------------------------------------------------------
@@ -89,7 +106,7 @@ def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
     """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing)."""
     if phase is None:
         return
-    if phase.side == 0.0:
+    if phase.side == 0.0 or p.contact.law != contact.COMPLIANT:
         return
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     contact.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
@@ -109,6 +126,7 @@ def rhs_given(t, kin, y, out, p):
     film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
     if p.model.equations == PRINTED_FILM_SIGN:
         F *= -1.0
+    asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, L, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)
@@ -129,10 +147,80 @@ def rhs_given(t, kin, y, out, p):
         out[n] = q_dot[n]
 
 
+@jitable
+def in_sustained(phase, law):
+    """Whether the segment is a sustained contact (restitution law, a phase with a side)."""
+    if phase is None:
+        return False
+    return law == contact.RESTITUTION and phase.side != 0.0
+
+
+@jitable
+def sustained_given(t, kin, A_r, y, out, p, side, point):
+    """Apply the sustained contact on ``side`` at ``point`` to ``out`` (``dy/dt`` without it); return its force [N].
+
+    The contact point is held where the contact began (:class:`ContactPhase`): a material point,
+    or a pad edge. ``A_r`` NaN: the collar acceleration of ``p.motion`` at ``t``. The Baumgarte
+    rate is the highest modal frequency of the basis.
+    """
+    N = p.basis.modes
+    L = p.basis.rod_length
+    q, q_dot = y[:N], y[N:]
+    x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
+    at_edge = point < 0.0
+    x_c = point
+    if point == PAD_START:
+        x_c = x0
+    elif point == PAD_END:
+        x_c = x0 + p.film.pad_length
+    u = 0.0
+    for n in range(N):
+        u += q[n] * np.sin((n + 1) * np.pi / L * x_c)
+    xi = 0.5 * p.film.clearance - side * u
+    if A_r != A_r:
+        A_r = collar_acceleration(t, p.motion)
+    m = p.basis.modal_mass
+    lam = contact.constraint_force(q, q_dot, out[N:], x_c, at_edge, False, side, xi - p.contact.min_film, kin[4],
+                                   A_r, p.basis.omega_n[N - 1], m, L)
+    for n in range(N):
+        out[N + n] -= side * lam * np.sin((n + 1) * np.pi / L * x_c) / m
+    return lam
+
+
+@jitable
+def _sustained_term(phase, t, kin, A_r, y, out, p):
+    """:func:`sustained_given` of ``phase`` if it is a sustained contact: ``(True, force [N])``, else ``(False, 0)``.
+
+    ``phase`` None (no contact law with phases) compiles to nothing.
+    """
+    if phase is None:
+        return False, 0.0
+    if phase.side == 0.0 or p.contact.law != contact.RESTITUTION:
+        return False, 0.0
+    return True, sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
+
+
+@jitable
+def rhs_with(t, kin, A_r, y, out, p):
+    """``dy/dt`` into ``out``: :func:`rhs_given` and, in a sustained contact, its constraint force."""
+    rhs_given(t, kin, y, out, p)
+    _sustained_term(p.phase, t, kin, A_r, y, out, p)
+
+
+@jitable
+def event_with(t, kin, A_r, y, p):
+    """The event: :func:`gap_given`, or in a sustained contact ``(force [N], 0, inf)``: it ends when the force falls to zero."""
+    if in_sustained(p.phase, p.contact.law):
+        out = np.empty(y.shape[0])
+        rhs_given(t, kin, y, out, p)
+        return _sustained_term(p.phase, t, kin, A_r, y, out, p)[1], 0.0, np.inf
+    return gap_given(t, kin, y, p)
+
+
 @kernel
 def rhs(t, y, out, p):
     """``dy/dt`` of the modal ODE into ``out``."""
-    rhs_given(t, motion_at(t, p.motion), y, out, p)
+    rhs_with(t, motion_at(t, p.motion), np.nan, y, out, p)
 
 
 @jitable
@@ -155,8 +243,22 @@ def gap_given(t, kin, y, p):
 
 @kernel
 def gap(t, y, p):
-    """The event: ``(gap [m], rate [m/s], bound of the rate [m/s])`` of the thinnest film above breakdown."""
-    return gap_given(t, motion_at(t, p.motion), y, p)
+    """The event: ``(gap [m], rate [m/s], bound of the rate [m/s])`` of the thinnest film above breakdown
+    (in a sustained contact, its force, :func:`event_with`)."""
+    return event_with(t, motion_at(t, p.motion), np.nan, y, p)
+
+
+@kernel
+def sustained_force_many(t, y, side, point, p):
+    """Force [N] of the sustained contact on ``side[i]`` (0: none, force 0) at ``point[i]`` at many samples ``t`` ``(T,)``, ``y`` ``(T, 2N)``."""
+    out = np.zeros(t.shape[0])
+    d = np.empty(y.shape[1])
+    for i in range(t.shape[0]):
+        if side[i] != 0.0:
+            kin = motion_at(t[i], p.motion)
+            rhs_given(t[i], kin, y[i], d, p)
+            out[i] = sustained_given(t[i], kin, np.nan, y[i], d, p, side[i], point[i])
+    return out
 
 
 # --- parameters ---------------------------------------------------------------------------------------
@@ -176,7 +278,7 @@ def make_params(config: Config, table: MotionTable | None) -> Params:
         table = SliderCrank(config.mechanism).table(config.collar.mass)
     if table.knots is not None:
         table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
-    phase = NO_PHASE if config.contact.law == "compliant" else None
+    phase = NO_PHASE if config.contact.law in ("compliant", "restitution") else None
     return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
                   kernel_view(config.collar), kernel_view(config.contact), kernel_view(config.model), basis, pad,
                   table, phase)
@@ -232,8 +334,8 @@ class Model:
         """The parameters of a segment with the compliant contact ``phase`` ``(side, v_minus)`` or None."""
         if self.params.phase is None:
             return self.params
-        return self.params._replace(phase=NO_PHASE if phase is None else ContactPhase(float(phase[0]),
-                                                                                     float(phase[1])))
+        return self.params._replace(phase=NO_PHASE if phase is None else ContactPhase(
+            float(phase[0]), float(phase[1]), float(phase[2]) if len(phase) > 2 else 0.0))
 
     def gravity_j(self, t):
         """Gravity along the link's ``j`` axis at ``t`` [m/s^2]."""
@@ -259,8 +361,12 @@ class Model:
         if self.motion.table() is not None:
             return rhs.py_func, gap.py_func
         kin = self.motion.kinematics
-        return (lambda t, y, out, p: rhs_given(t, kin(t), y, out, p),
-                lambda t, y, p: gap_given(t, kin(t), y, p))
+
+        def A_r(t, p):  # the motion's, where a sustained contact needs it
+            return self.motion.collar_acceleration(t) if in_sustained(p.phase, p.contact.law) else np.nan
+
+        return (lambda t, y, out, p: rhs_with(t, kin(t), A_r(t, p), y, out, p),
+                lambda t, y, p: event_with(t, kin(t), A_r(t, p), y, p))
 
     # conveniences for Python callers (tests, the paper's figures): one state at a time
     def rhs(self, t, y, phase=None):
@@ -280,6 +386,12 @@ class Model:
                                              self.params)
         return float(xi), float(x_c), bool(edge), int(side)
 
+    def contact_point(self, t, y):
+        """:attr:`ContactPhase.point` of the thinnest film at ``(t, y)``."""
+        _, x_c, edge, _ = self.thinnest_film(t, y)
+        x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
+        return contact_point(x_c, edge, x0, self.config.film.pad_length)
+
     def approach(self, t, y):
         """``(v, x_c, side)``: normal approach velocity at the thinnest film [m/s], positive closing."""
         N = self.modes
@@ -289,16 +401,37 @@ class Model:
                                              self.config.mechanism.rod_length)
         return float(v), x_c, side
 
-    def impact(self, t, y):
-        """The restitution law at ``t``: ``(y_plus, x_c, v_minus, side)``."""
+    def impact(self, t, y, restitution=None):
+        """The restitution law at ``t`` (``restitution`` default ``contact.restitution``): ``(y_plus, x_c, v_minus, side)``."""
         N = self.modes
         v_minus, x_c, side = self.approach(t, y)
         y_plus = np.array(y, dtype=float)
+        e = self.config.contact.restitution if restitution is None else restitution
         if v_minus > 0.0:
-            y_plus[N:] = side * contact.restitution_jump(side * y_plus[N:], x_c, v_minus,
-                                                         self.config.contact.restitution,
+            y_plus[N:] = side * contact.restitution_jump(side * y_plus[N:], x_c, v_minus, e,
                                                          self.config.mechanism.rod_length)
         return y_plus, x_c, v_minus, side
+
+    def sustained_force(self, t, y, side, point):
+        """Force [N] of a sustained contact on ``side`` at ``point`` (:class:`ContactPhase`) at ``(t, y)``."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        y = np.ascontiguousarray(np.reshape(y, (t.size, 2 * self.modes)), dtype=float)
+        sides = np.broadcast_to(np.asarray(side, dtype=float), t.shape).copy()
+        points = np.broadcast_to(np.asarray(point, dtype=float), t.shape).copy()
+        if self.compiled:
+            return sustained_force_many(t, y, sides, points, self.params)
+        rhs_f = self.functions()[0]
+        p = self.params
+        out = np.zeros(t.size)
+        for i in range(t.size):
+            if sides[i] != 0.0:
+                d = np.empty(2 * self.modes)
+                rhs_f(t[i], y[i], d, p)
+                kin = self.kinematics(t[i])
+                A_r = (collar_acceleration(t[i], p.motion) if self.motion.table() is not None
+                       else self.motion.collar_acceleration(t[i]))
+                out[i] = sustained_given(t[i], kin, A_r, y[i], d, p, sides[i], points[i])
+        return out
 
     def film_loads(self, t, y):
         """Modal film forces [N] and the resultant film force along +j [N]."""

@@ -77,11 +77,16 @@ FIELDS = {
                               "closed form"),
     "film.width_modes": ("1", "", "odd sine terms across the width of the 2d film"),
     "film.width_points": ("1", "", "points across the width where the 2d film is clipped (half-Sommerfeld)"),
+    "film.thickness_floor": ("m", "h_f", "below 2 h_f the Reynolds equation sees h_f + xi^2/(4 h_f); 0: off"),
+    "film.roughness": ("m", "sigma", "combined RMS roughness; > 0: Greenwood-Tripp asperity contact"),
+    "film.summit_product": ("1", "eta beta sigma", "asperity density x summit radius x roughness"),
+    "film.summit_ratio": ("1", "sigma/beta", "roughness over summit radius"),
+    "film.contact_modulus": ("Pa", "E'", "composite elastic modulus of the asperity contact"),
     "collar.mass": ("kg", "m_c", "mass of the collar and its guided member (joint reaction)"),
     "contact.law": ("", "", "restitution: paper Eq. 21, compliant: Lankarani-Nikravesh"),
     "contact.restitution": ("1", "e", "coefficient of restitution"),
     "contact.min_film": ("m", "xi_min", "film thickness at which the film breaks down; below clearance / 2"),
-    "contact.chatter_interval": ("s", "", "impacts closer in time than this end the run as chattering"),
+    "contact.chatter_interval": ("s", "", "impacts closer in time than this switch to sustained contact"),
     "contact.stiffness": ("N m-n", "K", "stiffness of the compliant law (n = exponent)"),
     "contact.exponent": ("1", "n", "exponent of the compliant law (1.5: Hertz)"),
     "model.equations": ("", "", "corrected (lubelink's) or a printed form of the paper"),
@@ -94,6 +99,9 @@ FIELDS = {
     "solver.max_wall_time": ("s", "", "wall-clock budget (inf: none); past it the run stops, status "
                                       "timeout, keeping its results"),
     "solver.backend": ("", "", "auto: compiled (Numba) where it applies"),
+    "solver.max_deflection": ("1", "", "linear theory's domain: largest max |u2| / L (inf: not checked)"),
+    "solver.max_slope": ("rad", "", "largest max |u2'| (inf: not checked)"),
+    "solver.max_axial_strain": ("1", "", "largest mean stretching strain 1/(2L) int u2'^2 dx (inf: not checked)"),
     "output.x_points": ("1", "", "samples of u2 along the link"),
     "output.pad_points": ("1", "", "samples of the film pressure along the pad"),
 }
@@ -209,6 +217,22 @@ class Film:
         Odd sine terms across the width of the ``"2d"`` film [-].
     width_points : int
         Points across the width where the ``"2d"`` film is clipped (half-Sommerfeld) [-].
+    thickness_floor : float
+        ``h_f`` [m]: below ``2 h_f`` the Reynolds equation sees the effective film
+        ``h_f + xi^2/(4 h_f)``, never thinner than ``h_f``
+        (:func:`lubelink.film.reynolds.effective_film`); 0: the film as it is. The default, half
+        the default ``contact.min_film``, leaves every film above ``min_film`` unchanged.
+    roughness : float
+        Combined RMS roughness of the two surfaces [m] (``sigma``); 0: smooth, no asperity
+        contact. With ``sigma > 0`` the asperities carry the Greenwood-Tripp pressure
+        (:mod:`lubelink.film.asperity`) beside the film (mixed lubrication).
+    summit_product : float
+        ``eta beta sigma`` [-], asperity density times summit radius times roughness (0.03-0.05).
+    summit_ratio : float
+        ``sigma / beta`` [-], roughness over summit radius (1e-4-1e-2).
+    contact_modulus : float
+        Composite elastic modulus ``E'`` of the Greenwood-Tripp pressure [Pa]
+        (``1/E' = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2``; two steels: 1.14e11).
     """
 
     model: str = "wedge"
@@ -225,6 +249,11 @@ class Film:
     reynolds: str = "1d"
     width_modes: int = 8
     width_points: int = 32
+    thickness_floor: float = 2.5e-6
+    roughness: float = 0.0
+    summit_product: float = 0.04
+    summit_ratio: float = 1e-3
+    contact_modulus: float = 1.14e11
 
     @property
     def enabled(self) -> bool:
@@ -258,7 +287,8 @@ class Contact:
     min_film : float
         Film thickness at which the film breaks down [m] (``xi_min``).
     chatter_interval : float
-        Impacts closer in time than this end the run as chattering [s].
+        Impacts closer in time than this are a Zeno sequence: the link then rides on the
+        collar (sustained contact) while the contact force is positive [s].
     stiffness : float
         Contact stiffness of the compliant law [N/m^exponent] (``K``).
     exponent : float
@@ -316,6 +346,14 @@ class Solver:
         ``"auto"`` or ``"numba"``: the kernels compiled by Numba (every
         option has them); ``"numpy"``: the same source run as Python, a
         debugging aid (as when Numba is not installed, or disabled).
+    max_deflection : float
+        Largest ``max |u2| / L`` of the linear theory's domain [-]; ``inf``: not checked.
+    max_slope : float
+        Largest ``max |u2'|`` [-] (rad); ``inf``: not checked.
+    max_axial_strain : float
+        Largest mean stretching strain ``1/(2L) int u2'^2 dx`` [-]; ``inf``: not checked.
+        A run whose state leaves the domain stops with status ``out_of_domain``
+        (:func:`lubelink.beam.linear_domain`, docs/breakdown.md).
     """
 
     method: str = "auto"
@@ -326,6 +364,9 @@ class Solver:
     max_step: float = math.inf
     max_wall_time: float = math.inf
     backend: str = "auto"
+    max_deflection: float = 0.05
+    max_slope: float = 0.15
+    max_axial_strain: float = 0.005
 
 
 @dataclass(frozen=True)

@@ -53,6 +53,11 @@ VARIABLES = {
                          "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
     "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
     "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
+    "asperity_force": Variable(("time",), "N", "resultant asperity contact force on the link along +j "
+                                                "(Greenwood-Tripp, mixed lubrication)"),
+    "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
+    "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
+                                              "face (sustained or compliant contact)"),
     "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
     "impact_position": Variable(("impact",), "m", "contact point on the link"),
     "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
@@ -201,6 +206,17 @@ def collect(result, variables=None) -> Results:
         if "film_force" in want:
             force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
             data["film_force"] = _entry("film_force", force)
+    if fm.roughness > 0.0 and "asperity_force" in want:
+        from .film.asperity import asperity_force_many
+
+        data["asperity_force"] = _entry("asperity_force", _select(asperity_force_many, compiled)(
+            np.ascontiguousarray(q), x_star, p.film, p.beam.width, p.pad, L))
+    if cfg.contact.law != "none":
+        side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
+        data["contact_phase"] = _entry("contact_phase", (side != 0).astype(np.int8),
+                                       flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="free contact")
+        if "contact_force" in want:
+            data["contact_force"] = _entry("contact_force", _contact_force(result, model, t, y, side))
     imp = result.impacts
     coords["impact"] = _entry("impact", np.arange(len(imp)))
     data["impact_time"] = _entry("impact_time", [i[0] for i in imp])
@@ -235,6 +251,20 @@ def collect(result, variables=None) -> Results:
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
+
+
+def _contact_force(result, model, t, y, side):
+    """Contact force at every sample [N]: the sustained contact's multiplier or the compliant force, 0 when free."""
+    force = np.zeros(t.size)
+    inside = np.flatnonzero(side != 0)
+    if inside.size == 0:
+        return force
+    if model.config.contact.law == "restitution":
+        force[inside] = model.sustained_force(t[inside], y[inside], side[inside], result.phase_point[inside])
+    else:
+        for i in inside:
+            force[i] = model.contact_force(t[i], y[i], (side[i], result.phase_v[i]))[1]
+    return force
 
 
 #: zlib level of every variable in a results file (level 1-4 halve the file; higher gains little).

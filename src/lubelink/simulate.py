@@ -36,6 +36,10 @@ class Run:
     wall_time: float = 0.0
     event_time: float = np.nan
     method: str = ""
+    contacts: list = field(default_factory=list)
+    phase_side: np.ndarray | None = None
+    phase_v: np.ndarray | None = None
+    phase_point: np.ndarray | None = None
 
     @property
     def complete(self) -> bool:
@@ -56,6 +60,37 @@ def sample_times(solver):
     """The output times ``0, output_step, ...`` up to ``t_end`` [s] (the last one kept when it rounds up)."""
     n_out = int(np.floor(solver.t_end / solver.output_step * (1 + 1e-12))) + 1
     return np.minimum(np.arange(n_out) * solver.output_step, solver.t_end)
+
+
+#: Quantities of :func:`lubelink.beam.linear_domain` and the ``solver`` limits they are checked against.
+DOMAIN = (("max |u2|/L", "max_deflection"), ("max |u2'|", "max_slope"), ("stretching strain", "max_axial_strain"))
+
+
+def domain_exit(model, y):
+    """``(index, message)`` of the first state of ``y`` ``(T, 2N)`` outside the linear theory's domain, or None.
+
+    The limits are ``solver.max_deflection``, ``max_slope``, ``max_axial_strain``
+    (:func:`lubelink.beam.linear_domain`); a non-finite state is outside too.
+    """
+    from .beam import linear_domain_many
+
+    s = model.config.solver
+    limits = np.array([getattr(s, key) for _, key in DOMAIN])
+    if y.shape[0] == 0 or not np.any(np.isfinite(limits)):
+        return None
+    q = np.ascontiguousarray(y[:, :model.modes])
+    f = linear_domain_many if model.compiled else linear_domain_many.py_func
+    m = f(q, model.config.mechanism.rod_length, 16 + 8 * model.modes)
+    bad = ~(m <= limits)
+    rows = np.flatnonzero(bad.any(axis=1))
+    if rows.size == 0:
+        return None
+    i = int(rows[0])
+    j = int(np.flatnonzero(bad[i])[0])
+    name, key = DOMAIN[j]
+    return i, (f"{name} = {m[i, j]:.4g} exceeds solver.{key} = {limits[j]:g}: the state left the domain of the "
+               "linear (small-deflection) theory, so the results beyond are meaningless; the run stopped "
+               "(raise the limit, or set it to inf, to go on regardless)")
 
 
 def _compile_errors():
@@ -114,9 +149,12 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     -------
     Run
         ``status`` is ``"complete"``, or ``"film_breakdown"``, ``"chatter"``,
-        ``"solver_failure"``, ``"timeout"`` with the samples computed so far. ``impacts`` holds
-        one list ``[t, x_c, v_minus, v_plus, side, q, q_dot_before, q_dot_after]`` per impact
-        (compliant contact: ``t`` is the start, ``v_plus`` the approach velocity at the end).
+        ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
+        samples computed so far. ``impacts`` holds one list
+        ``[t, x_c, v_minus, v_plus, side, q, q_dot_before, q_dot_after]`` per impact (compliant
+        contact: ``t`` is the start, ``v_plus`` the approach velocity at the end); ``contacts``
+        ``[t_start, t_end, side]`` per contact phase; ``phase_side``, ``phase_v`` the contact
+        phase of every sample (side 0: free).
     """
     start = time.perf_counter()
     model = build_model(config, motion) if model is None else model
@@ -132,12 +170,16 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
         _compile_on_two_cores(model, motion, method)
     t = 0.0
     y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(2 * model.modes)
-    ts, ys = [t_eval[:1]], [y[None, :]]
+    ts, ys, sides, vs, points = [t_eval[:1]], [y[None, :]], [np.zeros(1)], [np.zeros(1)], [np.zeros(1)]
     out = Run(model=model, t=None, y=None, method=out_method)
     logic = ContactLogic(model)
     phase = None
-    while True:
-        event_sign = 0 if not monitored else (-1 if phase is None else 1)
+    exited = domain_exit(model, y[None, :])
+    if exited is not None:
+        out.status, out.message, out.event_time = "out_of_domain", f"at t = 0 s: {exited[1]}", 0.0
+    sustained = config.contact.law == "restitution"
+    while exited is None:
+        event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
         compiled_loop = model.compiled and out_method in integrate.COMPILED_METHODS
         try:
             seg = integrate.integrate(method, *model.functions(), model.with_phase(phase), t, y, s.t_end,
@@ -155,10 +197,21 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
             model = compile_failed(model, exc)
             out.model = logic.model = model
             continue
-        ts.append(seg.t)
-        ys.append(seg.y)
+        seg_t, seg_y = seg.t, seg.y
+        exited = domain_exit(model, seg_y)
+        if exited is not None:
+            seg_t, seg_y = seg_t[:exited[0] + 1], seg_y[:exited[0] + 1]
+        ts.append(seg_t)
+        ys.append(seg_y)
+        sides.append(np.full(seg_t.size, 0.0 if phase is None else float(phase[0])))
+        vs.append(np.full(seg_t.size, 0.0 if phase is None else float(phase[1])))
+        points.append(np.full(seg_t.size, 0.0 if phase is None or len(phase) < 3 else float(phase[2])))
         out.nfev += seg.nfev
         out.nsteps += seg.nsteps
+        if exited is not None:
+            out.status, out.event_time = "out_of_domain", float(seg_t[-1])
+            out.message = f"at t = {seg_t[-1]:.9g} s: {exited[1]}"
+            break
         t, y = seg.t_final, seg.y_final
         if seg.status == "finished":
             break
@@ -176,8 +229,12 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
         if t >= s.t_end:
             break
     out.impacts = logic.impacts
+    out.contacts = logic.contacts
     out.t = np.concatenate(ts)
     out.y = np.concatenate(ys)
+    out.phase_side = np.concatenate(sides)
+    out.phase_v = np.concatenate(vs)
+    out.phase_point = np.concatenate(points)
     out.wall_time = time.perf_counter() - start
     return out
 

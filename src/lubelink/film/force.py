@@ -15,7 +15,8 @@ import numpy as np
 from .._jit import jitable, kernel
 from ..params import Film, kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
-                       WEDGE_SQUEEZE, pad_start, pressure_gradient, reynolds_cavitation, reynolds_constant)
+                       WEDGE_SQUEEZE, effective_film, pad_start, pressure_gradient, reynolds_cavitation,
+                       reynolds_constant)
 from .width import ONE_D, width_side, width_sines
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
@@ -124,6 +125,8 @@ def _reynolds_side(side, q, q_dot, ws, V_r, f, B, grid_trig, F):
             a, b = side * q_dot[n] * ws[n], side * q_dot[n] * ws[N + n]
             for k in range(G):
                 xi_t[k] -= a * grid_trig[COS, n, k] + b * grid_trig[SIN, n, k]
+    for k in range(G - 1):
+        xi_mid[k] = effective_film(xi_mid[k], f.thickness_floor)
     p = np.empty(G)
     reynolds_cavitation(grid, xi_mid, xi_t, V_r, f.viscosity, f.cavitation_pressure - f.ambient_pressure, p)
     total = 0.0
@@ -200,7 +203,8 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     I2 = 0.0
     I3 = 0.0
     for j in range(nodes):
-        xi = ws[o_xi + j]
+        xi = effective_film(ws[o_xi + j], f.thickness_floor)
+        ws[o_xi + j] = xi
         w_inv3 = pad.quad[1, j] / (xi * xi * xi)
         I1 += w_inv3 * xi
         I2 += w_inv3

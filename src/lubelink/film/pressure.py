@@ -13,7 +13,7 @@ from .._jit import jitable, kernel
 from ..beam import add_deflection
 from ..params import CHOICES
 from .force import _film_view, _tables, gauss_legendre, integration_matrix
-from .reynolds import (HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, pad_start, pressure_gradient,
+from .reynolds import (HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, effective_film, pad_start, pressure_gradient,
                        reynolds_cavitation, reynolds_constant)
 
 __all__ = ["pressure_on_breaks", "pad_pressure_many", "pressure", "pad_pressure", "pressure_points", "film_thickness",
@@ -96,6 +96,8 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
             c0[m] = np.cos((m + 1) * np.pi / L * x0)
         xi[:] = 0.5 * f.clearance
         add_deflection(q[i], s0, c0, sin_p, cos_p, -side, xi)
+        for k in range(n_pts):
+            xi[k] = effective_film(xi[k], f.thickness_floor)
         if f.cavitation == REYNOLDS:
             _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])
             continue

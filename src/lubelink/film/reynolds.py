@@ -12,7 +12,7 @@ import numpy as np
 from .._jit import jitable
 from ..params import CHOICES
 
-__all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation"]
+__all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film"]
 
 NO_FILM, WEDGE, WEDGE_SQUEEZE = (CHOICES["film.model"].index(v) for v in ("none", "wedge", "wedge+squeeze"))
 FULL, HALF_SOMMERFELD, REYNOLDS = (CHOICES["film.cavitation"].index(v)
@@ -31,6 +31,23 @@ def pad_start(x_star, pad_length, pad_reference):
     ``pad_reference`` is the choice's code (0 edge, 1 centre).
     """
     return x_star - 0.5 * pad_length if pad_reference == CENTRE else x_star
+
+
+@jitable
+def effective_film(xi, floor):
+    """The film thickness the Reynolds equation sees [m]: ``xi`` above ``2 h_f``, never below ``h_f``.
+
+    ``h_e = xi`` for ``xi >= 2 h_f``, ``h_f + xi^2 / (4 h_f)`` for ``0 <= xi < 2 h_f`` and ``h_f``
+    for ``xi < 0`` (contact), ``h_f = floor`` (``film.thickness_floor``): continuous with its
+    slope, so the film force stays finite and smooth when the gap closes to the roughness scale
+    or a compliant contact penetrates (docs/breakdown.md). ``floor = 0``: ``xi`` unchanged.
+    The squeeze source keeps the rate of the true gap.
+    """
+    if xi >= 2.0 * floor:
+        return xi
+    if xi <= 0.0:
+        return floor
+    return floor + xi * xi / (4.0 * floor)
 
 
 @jitable

@@ -33,7 +33,7 @@ QUANTITIES = {
 DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times")
 #: Always stored for every point, whatever ``quantities`` says.
 ALWAYS = {
-    "status": ("1", "outcome: complete, film_breakdown, chatter, solver_failure, timeout, "
+    "status": ("1", "outcome: complete, film_breakdown, chatter, solver_failure, timeout, out_of_domain, "
                     "error, worker_died or invalid"),
     "message": ("1", "why the point ended (the error for a failed point)"),
     "wall_time": ("s", "wall-clock time of the simulation on its worker"),
