@@ -207,7 +207,7 @@ def test_files_follow_the_cf_conventions(impact_results, tmp_path):
                     assert values.dtype == var.dtype and len(set(values.tolist())) == values.size == len(words)
                     data = np.asarray(var[...])
                     assert set(data.tolist()) <= set(values.tolist()), name
-            assert flags == 1  # impact_side
+            assert flags == 2  # impact_side, contact_phase
             assert nc["impact_side"].size > 0  # the flags were checked against data
 
 

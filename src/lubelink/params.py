@@ -100,7 +100,7 @@ FIELDS = {
                                       "timeout, keeping its results"),
     "solver.backend": ("", "", "auto: compiled (Numba) where it applies"),
     "solver.max_deflection": ("1", "", "linear theory's domain: largest max |u2| / L (inf: not checked)"),
-    "solver.max_slope": ("rad", "", "largest max |u2'| (inf: not checked)"),
+    "solver.max_slope": ("1", "", "largest slope max |u2'| (a ratio, in rad; inf: not checked)"),
     "solver.max_axial_strain": ("1", "", "largest mean stretching strain 1/(2L) int u2'^2 dx (inf: not checked)"),
     "output.x_points": ("1", "", "samples of u2 along the link"),
     "output.pad_points": ("1", "", "samples of the film pressure along the pad"),
