@@ -239,3 +239,18 @@ def test_tapered_slider_crank_against_finite_difference_modes(method, backend):
     peak = np.max(np.abs(ref))
     assert peak > 1e-3
     assert np.max(np.abs(u_mid - ref)) < 2e-4 * peak
+
+
+def test_periodic_monodromy_of_tapered_link_in_sine_modes():
+    """The variational monodromy matrix (integrated in eigen-coordinates) is returned in the sine
+    modes of the map: it equals finite differences of the map itself."""
+    from lubelink.steady.problem import PeriodMap
+
+    cfg = config.resolve("paper-dry", {"beam.modes": 2, "beam.width_ratio": 0.7, "beam.damping_ratio": 0.05,
+                                       "solver.backend": "numpy", "solver.method": "DOP853"})
+    pm = PeriodMap(cfg, jacobian="variational")
+    y0 = np.array([1e-4, -2e-5, 0.01, 0.003])
+    J = pm(y0, jacobian=True).jacobian
+    h = 1e-7
+    J_fd = np.column_stack([(pm(y0 + h * e).y - pm(y0 - h * e).y) / (2 * h) for e in np.eye(4)])
+    assert np.allclose(J, J_fd, rtol=1e-4, atol=1e-5 * np.max(np.abs(J)))
