@@ -134,3 +134,63 @@ def test_quasi_static_axial_stretch_of_a_spinning_link():
         errors.append(np.max(np.abs(u1 - exact)) / np.max(np.abs(exact)))
     assert errors[0] > errors[1] > errors[2]
     assert errors[2] < 1e-4
+
+
+def _rssp(t, axis=(0.25, 0.2, 1.0), ref=(1.0, 0.0, 0.0), P=(0.0, 0.0, 0.05), d=(1.0, 0.0, 0.0), r=0.07,
+          w0=10 * np.pi, guide=0.4):
+    k = np.array(axis) / np.linalg.norm(axis)
+    a = np.array(ref) - np.dot(ref, k) * k
+    a /= np.linalg.norm(a)
+    dd = np.array(d) / np.linalg.norm(d)
+    return spatial.slider_crank_rssp(t, r, L, w0, guide, k, a, np.array(P, float), dd)
+
+
+def test_rssp_kinematics_against_finite_differences_of_positions():
+    """Crank axis 14 deg off the normal of the slider line (not perpendicular to it), slider line offset 5 cm."""
+    h = 1e-5
+    spin, outof, tilt = [], [], []
+    for t in (0.0, 0.0123, 0.071, 0.15):
+        A_O, w, al, v_O, x_star, V_r, O, e1, e2, e3 = _rssp(t)
+        R = np.array([e1, e2, e3])  # rows: fixed -> link components
+        assert np.allclose(R @ R.T, np.eye(3), atol=1e-14)
+        pos = [_rssp(t + j * h) for j in (-2, -1, 1, 2)]
+
+        def d1(i):
+            return (pos[0][i] - 8 * pos[1][i] + 8 * pos[2][i] - pos[3][i]) / (12 * h)
+
+        O_t = d1(6)
+        O_tt = (pos[1][6] - 2 * O + pos[2][6]) / h**2
+        assert np.allclose(v_O, R @ O_t, rtol=1e-8, atol=1e-9)
+        assert np.allclose(A_O, R @ O_tt, rtol=1e-5, atol=1e-4)
+        # C = O + L e1 stays on the slider line and the link length is kept
+        C = O + L * e1
+        assert abs(C[1]) < 1e-14 and abs(C[2] - 0.05) < 1e-14
+        # w from e_i_t = w x e_i, alpha from differences of w
+        e_t = [d1(7), d1(8), d1(9)]
+        w_fd = np.array([e_t[1] @ e3, e_t[2] @ e1, e_t[0] @ e2])
+        assert np.allclose(w, w_fd, rtol=1e-8, atol=1e-8)
+        for i in range(3):
+            assert np.allclose(R.T @ np.cross(w, R @ e_t[i] * 0 + np.eye(3)[i]), e_t[i], atol=1e-7)
+        al_fd = d1(1)
+        assert np.allclose(al, al_fd, rtol=1e-6, atol=1e-5)
+        assert V_r == pytest.approx(d1(4), rel=1e-8, abs=1e-10)
+        # the collar point lies on the guide plane X = 0.4
+        assert (O + x_star * e1)[0] == pytest.approx(0.4, abs=1e-14)
+        spin.append(abs(w[0]))
+        tilt.append(abs(w[1]))
+        outof.append(abs(A_O[2]))
+    assert max(spin) > 1e-2 and max(outof) > 1.0 and max(tilt) > 1e-2  # a genuinely spatial motion
+
+
+def test_rssp_planar_case_is_the_paper_slider_crank():
+    """Crank axis normal to the slider line through the crank centre: the planar closed forms."""
+    from lubelink.kinematics import slider_crank
+
+    for t in (0.0123, 0.05, 0.13):
+        A_O, w, al, v_O, x_star, V_r, *_ = _rssp(t, axis=(0, 0, 1), P=(0, 0, 0))
+        k = slider_crank(t, 0.07, L, 10 * np.pi, 0.4)
+        assert A_O[1] == pytest.approx(k["A_O2"], rel=1e-12)
+        assert w[2] == pytest.approx(k["omega"], rel=1e-12) and al[2] == pytest.approx(k["alpha"], rel=1e-10)
+        assert abs(w[0]) + abs(w[1]) + abs(al[0]) + abs(al[1]) + abs(A_O[2]) < 1e-12
+        assert x_star == pytest.approx(k["x_star"], rel=1e-12) and V_r == pytest.approx(k["V_r"], rel=1e-10)
+        assert v_O[0] == pytest.approx(k["v_O1"], rel=1e-12)

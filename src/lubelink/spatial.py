@@ -110,3 +110,70 @@ def deflections(y, x, rod_length):
     N = y.shape[-1] // 6
     S = np.sin(np.outer(np.arange(1, N + 1) * np.pi / rod_length, np.asarray(x, dtype=float)))
     return tuple(y[..., k * N:(k + 1) * N] @ S for k in range(3))
+
+
+@jitable
+def slider_crank_rssp(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point,
+                      slider_dir):
+    """Closed-form kinematics of the spatial slider-crank (RSSP) at time ``t`` [s] (docs/spatial.md).
+
+    The crank (revolute about the unit ``crank_axis`` through the origin, length ``r``) carries the
+    link end O, ``O = r (cos phi a + sin phi b)``, ``phi = crank_speed t``, ``a = crank_ref``
+    (unit, normal to the axis), ``b = axis x a``. The link ``OC`` (spherical joints, length ``L``)
+    ends at the slider ``C = P + s d`` (``P = slider_point``, unit ``d = slider_dir``), ``s`` the
+    larger root of ``|C - O| = L``. Link frame: ``e1 = (C - O)/L``; the spin of an S-S link about
+    its own axis is idle, so ``e3`` is fixed by convention as the normalised part of the crank axis
+    normal to ``e1`` (the planar frame when the axis is normal to the slider line), ``e2 = e3 x e1``.
+    The collar is where the link crosses the guide plane ``d . p = guide``.
+
+    Returns
+    -------
+    tuple
+        ``(A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3)``: true acceleration [m/s^2] and
+        velocity [m/s] of O, angular velocity [rad/s] and acceleration [rad/s^2], all 3-vectors
+        in link-frame components; collar position on the link [m] and its velocity along it
+        [m/s]; then O [m] and the frame vectors in fixed components.
+    """
+    k = crank_axis
+    a = crank_ref
+    b = np.cross(k, a)
+    d = slider_dir
+    phi = crank_speed * t
+    c, s_ = np.cos(phi), np.sin(phi)
+    O = crank_length * (c * a + s_ * b)
+    O_t = crank_length * crank_speed * (-s_ * a + c * b)
+    O_tt = -crank_speed * crank_speed * O
+    p = slider_point - O
+    dp = np.dot(d, p)
+    s = -dp + np.sqrt(dp * dp - np.dot(p, p) + rod_length * rod_length)
+    g = slider_point + s * d - O
+    gd = np.dot(g, d)
+    s_t = np.dot(g, O_t) / gd
+    g_t = s_t * d - O_t
+    s_tt = (np.dot(g, O_tt) - np.dot(g_t, g_t)) / gd
+    g_tt = s_tt * d - O_tt
+    e1, e1_t, e1_tt = g / rod_length, g_t / rod_length, g_tt / rod_length
+    ke, ke_t, ke_tt = np.dot(k, e1), np.dot(k, e1_t), np.dot(k, e1_tt)
+    v = k - ke * e1
+    v_t = -ke_t * e1 - ke * e1_t
+    v_tt = -ke_tt * e1 - 2.0 * ke_t * e1_t - ke * e1_tt
+    nu = np.sqrt(np.dot(v, v))
+    e3 = v / nu
+    nu_t = np.dot(e3, v_t)
+    e3_t = (v_t - nu_t * e3) / nu
+    nu_tt = np.dot(e3_t, v_t) + np.dot(e3, v_tt)
+    e3_tt = (v_tt - 2.0 * nu_t * e3_t - nu_tt * e3) / nu
+    e2 = np.cross(e3, e1)
+    e2_t = np.cross(e3_t, e1) + np.cross(e3, e1_t)
+    e2_tt = np.cross(e3_tt, e1) + 2.0 * np.cross(e3_t, e1_t) + np.cross(e3, e1_tt)
+    # e_i_t = w x e_i:  w1 = e2_t . e3, w2 = e3_t . e1, w3 = e1_t . e2; alpha = their derivatives
+    w = np.array([np.dot(e2_t, e3), np.dot(e3_t, e1), np.dot(e1_t, e2)])
+    alpha = np.array([np.dot(e2_tt, e3) + np.dot(e2_t, e3_t), np.dot(e3_tt, e1) + np.dot(e3_t, e1_t),
+                      np.dot(e1_tt, e2) + np.dot(e1_t, e2_t)])
+    A_O = np.array([np.dot(O_tt, e1), np.dot(O_tt, e2), np.dot(O_tt, e3)])
+    v_O = np.array([np.dot(O_t, e1), np.dot(O_t, e2), np.dot(O_t, e3)])
+    num = guide - np.dot(d, O)
+    den = np.dot(d, e1)
+    x_star = num / den
+    V_r = (-np.dot(d, O_t) * den - num * np.dot(d, e1_t)) / (den * den)
+    return A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3
