@@ -144,6 +144,8 @@ RULES = {
         "height": _num(0, 10, lo_open=True),
         "modes": _num(1, 200, integer=True),
         "damping_ratio": _num(0, 1, hi_open=True),
+        "width_ratio": _num(0.01, 100),
+        "height_ratio": _num(0.01, 100),
     },
     "film": {
         "model": _choice(CHOICES["film.model"]),
@@ -259,7 +261,7 @@ def validate(config: Config) -> Config:
                 f"mechanism.guide_distance = {m.guide_distance}: the collar pad (film.pad_length = "
                 f"{fm.pad_length}) spans [{first:.4g}, {last:.4g}] m along the rod over a crank turn; "
                 f"it must stay inside (0, {m.rod_length}) m")
-    if max(b.width, b.height) >= m.rod_length:
+    if max(b.width * max(1.0, b.width_ratio), b.height * max(1.0, b.height_ratio)) >= m.rod_length:
         problems.append(f"beam.height = {b.height}, beam.width = {b.width}: a slender link needs both "
                         f"much smaller than mechanism.rod_length = {m.rod_length}")
     if ct.min_film >= 0.5 * fm.clearance:

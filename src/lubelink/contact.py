@@ -397,6 +397,12 @@ class ContactLogic:
                     f"more than {self.max_impacts} impacts by t = {t_before:.12g} s, the last two "
                     f"{t_before - previous:.3g} s apart, without a sustained contact (its force stays "
                     "negative); try contact.law = 'compliant'", t_before, y_before, None)
+        if t_before - previous < ct.chatter_interval and model.params.galerkin is not None:
+            return ("chatter",
+                    f"impacts at t = {previous:.12g} s and {t_before:.12g} s are closer than "
+                    f"contact.chatter_interval = {ct.chatter_interval:g} s; sustained contact is not "
+                    "implemented for a variable section (beam.width_ratio, beam.height_ratio); try "
+                    "contact.law = 'compliant'", t_before, y_before, None)
         if t_before - previous < ct.chatter_interval:  # Zeno: ride on the collar if it pushes back
             y_rest = model.impact(t_before, y_before, restitution=0.0)[0]
             point = model.contact_point(t_before, y_before)

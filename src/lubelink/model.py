@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _jit, beam, contact, film
+from . import _jit, beam, contact, film, section
 from .film import asperity
 from ._jit import jitable, kernel
 from .errors import BackendError
@@ -73,7 +73,9 @@ class Params(NamedTuple):
 
     The sections are :func:`~lubelink.params.kernel_view` s of the dataclasses (same field
     names); ``basis``, ``pad`` and ``motion`` are tables derived from them; ``phase`` is the
-    compliant contact of the segment.
+    compliant contact of the segment; ``galerkin`` the eigenbasis of a variable section
+    (:class:`~lubelink.section.GalerkinTable`; None for a uniform link, whose state is the sine
+    modes themselves).
     """
 
     mechanism: tuple
@@ -86,6 +88,7 @@ class Params(NamedTuple):
     pad: film.PadTables
     motion: MotionTable
     phase: ContactPhase | None
+    galerkin: section.GalerkinTable | None = None
 
 
 NO_PHASE = ContactPhase(0.0, 0.0, 0.0)
@@ -119,8 +122,9 @@ def rhs_given(t, kin, y, out, p):
     A_O2, omega, alpha, x_star, V_r, reaction, angle, v_O1 = kin
     N = p.basis.modes
     L = p.basis.rod_length
-    q = y[:N]
-    q_dot = y[N:]
+    yq = section.physical(p.galerkin, y)  # the sine-mode state (y itself for a uniform link)
+    q = yq[:N]
+    q_dot = yq[N:]
     F = out[N:]  # modal forces [N], accumulated here before the accelerations replace them
     F[:] = 0.0
     film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
@@ -138,13 +142,24 @@ def rhs_given(t, kin, y, out, p):
     if p.model.equations == DOUBLE_COUNT or p.model.equations == PRINTED:
         A_eff += omega * v_O1
     stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
-    zeta = p.beam.damping_ratio
+    _accelerations(p.galerkin, y, F, A_eff, alpha, omega, p.basis, p.beam.damping_ratio, stiffening, out)
+
+
+@jitable
+def _accelerations(g, y, F, A_eff, alpha, omega, basis, zeta, stiffening, out):
+    """``out = dy/dt`` from the modal forces ``F`` [N] (aliasing ``out[N:]``): sine modes, or the eigenmodes of ``g``."""
+    if g is not None:
+        section.eigen_accelerations(g, y, F, A_eff, alpha, omega, basis.omega_n, zeta, basis.modal_mass,
+                                    stiffening, out)
+        return
+    N = basis.modes
+    L = basis.rod_length
     for n in range(N):
-        forcing = beam.rigid_load(A_eff, alpha, n + 1, L) + F[n] / p.basis.modal_mass
+        forcing = beam.rigid_load(A_eff, alpha, n + 1, L) + F[n] / basis.modal_mass
         if stiffening:
-            forcing -= 2.0 * omega * omega * q[n]
-        out[N + n] = beam.modal_acceleration(q[n], q_dot[n], p.basis.omega_n[n], zeta, omega, forcing)
-        out[n] = q_dot[n]
+            forcing -= 2.0 * omega * omega * y[n]
+        out[N + n] = beam.modal_acceleration(y[n], y[N + n], basis.omega_n[n], zeta, omega, forcing)
+        out[n] = y[N + n]
 
 
 @jitable
@@ -225,7 +240,7 @@ def rhs(t, y, out, p):
 
 @jitable
 def thinnest_given(x_star, y, p):
-    """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides."""
+    """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides (``y``: sine-mode state)."""
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     return contact.thinnest_film_sides(y[:p.basis.modes], x0, p.film, p.pad, p.basis.rod_length, 0.0)
 
@@ -235,10 +250,20 @@ def gap_given(t, kin, y, p):
     """``(gap, rate, bound)``: thinnest film above breakdown, ``xi_min - min_film`` [m], its rate and a bound of the rate [m/s]."""
     N = p.basis.modes
     L = p.basis.rod_length
-    q, q_dot = y[:N], y[N:]
-    xi, x_c, at_edge, side = thinnest_given(kin[3], y, p)
+    yq = section.physical(p.galerkin, y)
+    q, q_dot = yq[:N], yq[N:]
+    xi, x_c, at_edge, side = thinnest_given(kin[3], yq, p)
     return (xi - p.contact.min_film, contact.gap_rate(q, q_dot, x_c, at_edge, side, kin[4], L),
-            contact.gap_rate_bound(q, q_dot, p.basis.omega_n, kin[1], kin[4], L))
+            _rate_bound(p.galerkin, y, p.basis.omega_n, kin[1], kin[4], L))
+
+
+@jitable
+def _rate_bound(g, y, omega_n, omega, V_r, rod_length):
+    """A bound of the gap's rate [m/s]: by sine modes, or by the eigenmodes of ``g``."""
+    if g is not None:
+        return section.eigen_rate_bound(g, y, omega_n, omega, V_r)
+    N = omega_n.shape[0]
+    return contact.gap_rate_bound(y[:N], y[N:], omega_n, omega, V_r, rod_length)
 
 
 @kernel
@@ -266,13 +291,23 @@ def _c(a):
     return np.ascontiguousarray(a, dtype=np.float64).copy()
 
 
-def make_params(config: Config, table: MotionTable | None) -> Params:
-    """The :class:`Params` of a validated configuration (``table`` None: a placeholder motion)."""
+def make_params(config: Config, table: MotionTable | None, cross_section=None) -> Params:
+    """The :class:`Params` of a validated configuration (``table`` None: a placeholder motion).
+
+    ``cross_section``: a :class:`~lubelink.section.Section` replacing the beam's (uniform or
+    linearly tapered) one; any section but the uniform one is solved in the Galerkin eigenbasis.
+    """
     b = config.beam
     L = config.mechanism.rod_length
     N = b.modes
-    omega_n = beam.natural_frequencies(N, L, b.youngs_modulus, b.second_moment, b.density, b.area)
-    basis = Basis(int(N), float(L), _c(omega_n), float(beam.modal_mass(b.density, b.area, L)))
+    galerkin = None
+    if cross_section is None and b.uniform:
+        omega_n = beam.natural_frequencies(N, L, b.youngs_modulus, b.second_moment, b.density, b.area)
+        m_ref = beam.modal_mass(b.density, b.area, L)
+    else:
+        sec = section.taper(b, L) if cross_section is None else cross_section
+        omega_n, m_ref, galerkin = section.galerkin_table(sec, b.youngs_modulus, b.density, N, L)
+    basis = Basis(int(N), float(L), _c(omega_n), float(m_ref))
     pad = film.pad_tables(N, L, config.film)
     if table is None:
         table = SliderCrank(config.mechanism).table(config.collar.mass)
@@ -281,7 +316,7 @@ def make_params(config: Config, table: MotionTable | None) -> Params:
     phase = NO_PHASE if config.contact.law in ("compliant", "restitution") else None
     return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
                   kernel_view(config.collar), kernel_view(config.contact), kernel_view(config.model), basis, pad,
-                  table, phase)
+                  table, phase, galerkin)
 
 
 # --- the model, from Python ------------------------------------------------------------------------------
@@ -329,6 +364,34 @@ class Model:
     def initial_state(self):
         """Zero initial conditions (the paper's)."""
         return np.zeros(2 * self.modes)
+
+    @property
+    def uniform(self) -> bool:
+        """Whether the integrator's state is the sine modes themselves (uniform link), not eigen-coordinates."""
+        return self.params.galerkin is None
+
+    def to_physical(self, y):
+        """The sine-mode states ``[q, q_dot]`` [m, m/s] of integrator states ``y``, shape ``(..., 2N)``.
+
+        The integrator's state is ``[eta, eta_dot]`` for a variable section (:mod:`lubelink.section`);
+        ``y`` itself for a uniform link. :meth:`rhs` and :meth:`gap` take integrator states, the other
+        methods and the results sine-mode states.
+        """
+        g = self.params.galerkin
+        if g is None:
+            return y
+        y = np.asarray(y, dtype=float)
+        N = self.modes
+        return np.concatenate([y[..., :N] @ g.phi.T, y[..., N:] @ g.phi.T], axis=-1)
+
+    def to_state(self, yq):
+        """The integrator states of sine-mode states ``yq`` (inverse of :meth:`to_physical`)."""
+        g = self.params.galerkin
+        if g is None:
+            return yq
+        yq = np.asarray(yq, dtype=float)
+        N = self.modes
+        return np.concatenate([yq[..., :N] @ g.phi_inv.T, yq[..., N:] @ g.phi_inv.T], axis=-1)
 
     def with_phase(self, phase) -> Params:
         """The parameters of a segment with the compliant contact ``phase`` ``(side, v_minus)`` or None."""
@@ -407,7 +470,10 @@ class Model:
         v_minus, x_c, side = self.approach(t, y)
         y_plus = np.array(y, dtype=float)
         e = self.config.contact.restitution if restitution is None else restitution
-        if v_minus > 0.0:
+        if v_minus > 0.0 and self.params.galerkin is not None:
+            y_plus[N:] = side * section.eigen_restitution_jump(self.params.galerkin, side * y_plus[N:], x_c,
+                                                               v_minus, e, self.config.mechanism.rod_length)
+        elif v_minus > 0.0:
             y_plus[N:] = side * contact.restitution_jump(side * y_plus[N:], x_c, v_minus, e,
                                                          self.config.mechanism.rod_length)
         return y_plus, x_c, v_minus, side
@@ -475,7 +541,7 @@ def _backend(config, motion):
     return False, f"compiled path not used: {why}"
 
 
-def build_model(config: Config, motion=None) -> Model:
+def build_model(config: Config, motion=None, section=None) -> Model:
     """Assemble the model of a validated configuration.
 
     Parameters
@@ -485,6 +551,9 @@ def build_model(config: Config, motion=None) -> Model:
     motion : object, optional
         A motion provider (see :mod:`lubelink.kinematics`); default: the slider-crank of
         ``config.mechanism``.
+    section : lubelink.section.Section, optional
+        ``A(x)``, ``I(x)`` replacing the beam's (uniform or ``beam.width_ratio``/``height_ratio``
+        tapered) section.
 
     Raises
     ------
@@ -496,7 +565,7 @@ def build_model(config: Config, motion=None) -> Model:
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
         raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "
                            "slider-crank motion provides")
-    return Model(config, motion, make_params(config, motion.table(config.collar.mass)), compiled, note)
+    return Model(config, motion, make_params(config, motion.table(config.collar.mass), section), compiled, note)
 
 
 def compile_failed(model: Model, exc: BaseException) -> Model:

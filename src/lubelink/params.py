@@ -152,7 +152,11 @@ class Beam:
     modes : int
         Number of sine modes kept [-] (``N``).
     damping_ratio : float
-        Modal viscous damping ratio, the same for every mode [-] (``zeta``).
+        Modal viscous damping ratio, the same for every mode [-] (``zeta``); for a variable
+        section, of every eigenmode of the Galerkin system.
+    width_ratio, height_ratio : float
+        Linear taper: width and height at ``x = L`` over their values ``width``, ``height`` at
+        ``x = 0`` [-] (1: uniform link; docs/section.md). The film's pad width stays ``width``.
     """
 
     youngs_modulus: float = 207e9
@@ -161,16 +165,23 @@ class Beam:
     height: float = 0.01
     modes: int = 1
     damping_ratio: float = 0.0
+    width_ratio: float = 1.0
+    height_ratio: float = 1.0
 
     @property
     def area(self) -> float:
-        """Cross-section area [m^2] (``A``)."""
+        """Cross-section area at ``x = 0`` [m^2] (``A``)."""
         return self.width * self.height
 
     @property
     def second_moment(self) -> float:
-        """Second moment of area for in-plane bending [m^4] (``I_z``)."""
+        """Second moment of area for in-plane bending at ``x = 0`` [m^4] (``I_z``)."""
         return self.width * self.height**3 / 12.0
+
+    @property
+    def uniform(self) -> bool:
+        """Whether the section is the same all along the link (no taper)."""
+        return self.width_ratio == 1.0 and self.height_ratio == 1.0
 
 
 @dataclass(frozen=True)

@@ -128,7 +128,7 @@ def _compile_on_two_cores(model, motion, method):
     _prewarm.wait(helper)
 
 
-def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
+def run(config, motion=None, progress=None, model=None, y0=None, section=None) -> Run:
     """Integrate a validated configuration, handling film breakdown as it occurs.
 
     Parameters
@@ -144,12 +144,15 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     y0 : array_like, shape ``(2N,)``, optional
         State ``[q, q_dot]`` at t = 0 [m, m/s] (default: zero, the paper's). It must not lie
         inside a contact (thinnest film below ``contact.min_film``).
+    section : lubelink.section.Section, optional
+        ``A(x)``, ``I(x)`` of the link replacing the beam's section (ignored with ``model``).
 
     Returns
     -------
     Run
-        ``status`` is ``"complete"``, or ``"film_breakdown"``, ``"chatter"``,
-        ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
+        ``y`` holds the sine-mode states ``[q, q_dot]`` (also for a variable section, which is
+        integrated in its eigen-coordinates, :mod:`lubelink.section`). ``status`` is
+        ``"complete"``, or ``"film_breakdown"``, ``"chatter"``, ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
         samples computed so far. ``impacts`` holds one list
         ``[t, x_c, v_minus, v_plus, side, q, q_dot_before, q_dot_after]`` per impact (compliant
         contact: ``t`` is the start, ``v_plus`` the approach velocity at the end); ``contacts``
@@ -157,7 +160,7 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
         phase of every sample (side 0: free).
     """
     start = time.perf_counter()
-    model = build_model(config, motion) if model is None else model
+    model = build_model(config, motion, section) if model is None else model
     s = config.solver
     deadline = start + s.max_wall_time if np.isfinite(s.max_wall_time) else None
     t_eval = sample_times(s)
@@ -177,6 +180,7 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     exited = domain_exit(model, y[None, :])
     if exited is not None:
         out.status, out.message, out.event_time = "out_of_domain", f"at t = 0 s: {exited[1]}", 0.0
+    y = model.to_state(y)
     sustained = config.contact.law == "restitution"
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
@@ -197,7 +201,7 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
             model = compile_failed(model, exc)
             out.model = logic.model = model
             continue
-        seg_t, seg_y = seg.t, seg.y
+        seg_t, seg_y = seg.t, model.to_physical(seg.y)
         exited = domain_exit(model, seg_y)
         if exited is not None:
             seg_t, seg_y = seg_t[:exited[0] + 1], seg_y[:exited[0] + 1]
@@ -222,7 +226,9 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
             out.status = "timeout"
             out.message = f"{seg.message} (solver.max_wall_time = {s.max_wall_time} s)"
             break
-        status, message, t, y, phase = logic.on_event(seg.t_before, seg.y_before, seg.t_final, seg.y_final, phase)
+        status, message, t, y, phase = logic.on_event(seg.t_before, model.to_physical(seg.y_before), seg.t_final,
+                                                      model.to_physical(seg.y_final), phase)
+        y = model.to_state(y)
         if status is not None:
             out.status, out.message, out.event_time = status, message, seg.t_final
             break
@@ -239,7 +245,7 @@ def run(config, motion=None, progress=None, model=None, y0=None) -> Run:
     return out
 
 
-def simulate(source="paper", set=None, *, motion=None, progress=False):
+def simulate(source="paper", set=None, *, motion=None, progress=False, section=None):
     """Run one simulation and return its results.
 
     Parameters
@@ -253,6 +259,8 @@ def simulate(source="paper", set=None, *, motion=None, progress=False):
         A motion provider (:mod:`lubelink.kinematics`) replacing the slider-crank.
     progress : bool or callable
         ``True`` shows a progress bar on stderr; a callable receives the simulated time.
+    section : lubelink.section.Section, optional
+        ``A(x)``, ``I(x)`` of the link (callables or sampled tables) replacing the beam's section.
 
     Returns
     -------
@@ -275,7 +283,7 @@ def simulate(source="paper", set=None, *, motion=None, progress=False):
                 bar.n = t
                 bar.refresh() if bar.n - bar.last_print_n > 0.01 * bar.total else None
 
-            result = run(config, motion, report)
+            result = run(config, motion, report, section=section)
     else:
-        result = run(config, motion, progress or None)
+        result = run(config, motion, progress or None, section=section)
     return to_dataset(result)

@@ -110,7 +110,7 @@ class PeriodMap:
         y0 = np.asarray(y0, dtype=float)
         if not np.all(np.isfinite(y0)):
             raise MapFailure("the state is not finite")
-        if self.monitored and self.model.gap(0.0, y0) < 0.0:
+        if self.monitored and self.model.gap(0.0, self.model.to_state(y0)) < 0.0:
             raise MapFailure(f"the state at t = 0 lies inside the contact (the film is thinner than "
                              f"contact.min_film = {self.config.contact.min_film} m)")
         config = self.config
@@ -143,10 +143,13 @@ class PeriodMap:
             self._rhs = _fast_rhs(self.model)
         s = self.config.solver
         try:
-            _, M, _ = flow_with_jacobian(self._rhs, self.model.with_phase(None), 0.0, y0, self.period,
-                                         self.scale(), rtol=s.rtol, atol=s.atol)
+            _, M, _ = flow_with_jacobian(self._rhs, self.model.with_phase(None), 0.0, self.model.to_state(y0),
+                                         self.period, self.scale(), rtol=s.rtol, atol=s.atol)  # eta ~ q in size
         except RuntimeError as exc:
             raise MapFailure(str(exc)) from None
+        if not self.model.uniform:  # the integrator's eigen-coordinates -> the sine modes of the map
+            eye = np.eye(self.n)
+            M = self.model.to_physical(eye).T @ M @ self.model.to_state(eye).T
         return M
 
     # --- sizes ------------------------------------------------------------------------------------

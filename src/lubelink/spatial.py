@@ -1,0 +1,179 @@
+"""The spatial link (paper Eqs. 10-12, corrected; docs/spatial.md): modal equations of a uniform link.
+
+The link moves in space with the rigid motion of its frame ``(O; e1, e2, e3)``, ``e1`` along the
+link: angular velocity ``w`` and acceleration ``alpha``, true acceleration of O ``a_O``, all three
+in link-frame components. Axial ``u1`` and bending ``u2`` (in the ``e1 e2`` plane, stiffness
+``E I_z``) and ``u3`` (``E I_y``) are expanded in the same sine modes ``sin(beta_n x)``: the
+pinned-pinned bending modes, and for ``u1`` the fixed-fixed bar modes (both pins lie on the
+prescribed rigid motion, docs/spatial.md). The acceleration of a material point,
+``a = a_O + alpha x r + w x (w x r) + 2 w x r_t + r_tt`` with ``r = (x + u1, u2, u3)``, is then
+projected on the modes; for a uniform section every term couples only the three coordinates of
+the same mode ``n``, ``Q = (q1_n, q2_n, q3_n)``:
+
+    Q_tt + 2 w x Q_t + alpha x Q + w x (w x Q) + diag(W_n^2) Q + 2 zeta diag(W_n) Q_t
+        = - [a_O c0_n + (alpha x e1 + w x (w x e1)) c1_n] + F_n / m
+
+``W_n = (beta_n sqrt(E/rho), beta_n^2 sqrt(E I_z/(rho A)), beta_n^2 sqrt(E I_y/(rho A)))``,
+``c0_n``, ``c1_n`` the sine transforms of 1 and ``x`` per unit modal mass ``m = rho A L / 2``
+(:func:`lubelink.beam.rigid_load`), ``F_n`` the modal forces [N] (film on the ``u2`` faces).
+The planar motion ``w = (0, 0, omega)``, ``alpha = (0, 0, alpha)`` leaves ``u3 = 0`` and differs
+from the planar model (docs/model.md section 2) only by ``2 omega q1_t + alpha q1`` in the ``u2``
+equation (the axial-bending Coriolis and Euler terms) and by the axial equation itself.
+
+State ``y = [q1_1..q1_N, q2_1..q2_N, q3_1..q3_N, and their velocities]``: 3N oscillators with the
+diagonal linear part ``diag(W^2)`` of :func:`frequencies` (the exponential integrator's form).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import jitable
+from .beam import rigid_load
+
+__all__ = ["frequencies", "rigid_loads", "accelerations", "deflections"]
+
+
+def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
+    """``[axial, in-plane, out-of-plane]`` natural frequencies [rad/s], shape ``(3 N,)``.
+
+    Axial fixed-fixed bar ``n pi / L sqrt(E / rho)``; bending ``beta_n^2 sqrt(E I / (rho A))``.
+    """
+    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    return np.concatenate([beta * np.sqrt(youngs_modulus / density),
+                           beta**2 * np.sqrt(youngs_modulus * I_z / (density * area)),
+                           beta**2 * np.sqrt(youngs_modulus * I_y / (density * area))])
+
+
+@jitable
+def rigid_loads(a_O, w, al, n, rod_length):
+    """Modal load of the rigid-motion inertia per unit modal mass, mode ``n``, directions 1-3 [m/s^2].
+
+    ``-(a_O c0_n + g c1_n)`` with ``g = alpha x e1 + w x (w x e1) = (-(w2^2 + w3^2), alpha3 + w1 w2,
+    w1 w3 - alpha2)`` the acceleration of the point ``x e1`` per unit ``x``.
+    """
+    g1 = -(w[1] * w[1] + w[2] * w[2])
+    g2 = al[2] + w[0] * w[1]
+    g3 = w[0] * w[2] - al[1]
+    return (rigid_load(a_O[0], g1, n, rod_length), rigid_load(a_O[1], g2, n, rod_length),
+            rigid_load(a_O[2], g3, n, rod_length))
+
+
+@jitable
+def accelerations(y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out):
+    """``out = dy/dt`` of the spatial modal equations (module docstring) [SI].
+
+    Parameters
+    ----------
+    y : ndarray, shape ``(6 N,)``
+        ``[q1, q2, q3, q1_t, q2_t, q3_t]`` [m, m/s].
+    W : ndarray, shape ``(3 N,)``
+        Natural frequencies of :func:`frequencies` [rad/s].
+    zeta : float
+        Modal damping ratio [-].
+    a_O, w, al : sequences of 3 floats
+        True acceleration of O [m/s^2], angular velocity [rad/s] and acceleration [rad/s^2] of
+        the link frame, in its components.
+    F : ndarray, shape ``(3 N,)``
+        Modal forces [N] along ``e1``, ``e2``, ``e3`` (may alias ``out[3N:]``: read first).
+    modal_mass : float
+        ``rho A L / 2`` [kg].
+    """
+    N = W.shape[0] // 3
+    M = 3 * N
+    w1, w2, w3 = w[0], w[1], w[2]
+    for n in range(N):
+        i1, i2, i3 = n, N + n, 2 * N + n
+        x1, x2, x3 = y[i1], y[i2], y[i3]
+        v1, v2, v3 = y[M + i1], y[M + i2], y[M + i3]
+        r1, r2, r3 = rigid_loads(a_O, w, al, n + 1, rod_length)
+        f1 = F[i1] / modal_mass + r1
+        f2 = F[i2] / modal_mass + r2
+        f3 = F[i3] / modal_mass + r3
+        # w x (w x Q) = w (w . Q) - |w|^2 Q
+        wq = w1 * x1 + w2 * x2 + w3 * x3
+        ww = w1 * w1 + w2 * w2 + w3 * w3
+        out[M + i1] = (-W[i1] ** 2 * x1 - 2.0 * zeta * W[i1] * v1 + f1 - 2.0 * (w2 * v3 - w3 * v2)
+                       - (al[1] * x3 - al[2] * x2) - (w1 * wq - ww * x1))
+        out[M + i2] = (-W[i2] ** 2 * x2 - 2.0 * zeta * W[i2] * v2 + f2 - 2.0 * (w3 * v1 - w1 * v3)
+                       - (al[2] * x1 - al[0] * x3) - (w2 * wq - ww * x2))
+        out[M + i3] = (-W[i3] ** 2 * x3 - 2.0 * zeta * W[i3] * v3 + f3 - 2.0 * (w1 * v2 - w2 * v1)
+                       - (al[0] * x2 - al[1] * x1) - (w3 * wq - ww * x3))
+        out[i1] = v1
+        out[i2] = v2
+        out[i3] = v3
+
+
+def deflections(y, x, rod_length):
+    """``(u1, u2, u3)`` [m] at ``x`` of states ``y`` shape ``(..., 6 N)``; each shape ``(..., len(x))``."""
+    y = np.asarray(y, dtype=float)
+    N = y.shape[-1] // 6
+    S = np.sin(np.outer(np.arange(1, N + 1) * np.pi / rod_length, np.asarray(x, dtype=float)))
+    return tuple(y[..., k * N:(k + 1) * N] @ S for k in range(3))
+
+
+@jitable
+def slider_crank_rssp(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point,
+                      slider_dir):
+    """Closed-form kinematics of the spatial slider-crank (RSSP) at time ``t`` [s] (docs/spatial.md).
+
+    The crank (revolute about the unit ``crank_axis`` through the origin, length ``r``) carries the
+    link end O, ``O = r (cos phi a + sin phi b)``, ``phi = crank_speed t``, ``a = crank_ref``
+    (unit, normal to the axis), ``b = axis x a``. The link ``OC`` (spherical joints, length ``L``)
+    ends at the slider ``C = P + s d`` (``P = slider_point``, unit ``d = slider_dir``), ``s`` the
+    larger root of ``|C - O| = L``. Link frame: ``e1 = (C - O)/L``; the spin of an S-S link about
+    its own axis is idle, so ``e3`` is fixed by convention as the normalised part of the crank axis
+    normal to ``e1`` (the planar frame when the axis is normal to the slider line), ``e2 = e3 x e1``.
+    The collar is where the link crosses the guide plane ``d . p = guide``.
+
+    Returns
+    -------
+    tuple
+        ``(A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3)``: true acceleration [m/s^2] and
+        velocity [m/s] of O, angular velocity [rad/s] and acceleration [rad/s^2], all 3-vectors
+        in link-frame components; collar position on the link [m] and its velocity along it
+        [m/s]; then O [m] and the frame vectors in fixed components.
+    """
+    k = crank_axis
+    a = crank_ref
+    b = np.cross(k, a)
+    d = slider_dir
+    phi = crank_speed * t
+    c, s_ = np.cos(phi), np.sin(phi)
+    O = crank_length * (c * a + s_ * b)
+    O_t = crank_length * crank_speed * (-s_ * a + c * b)
+    O_tt = -crank_speed * crank_speed * O
+    p = slider_point - O
+    dp = np.dot(d, p)
+    s = -dp + np.sqrt(dp * dp - np.dot(p, p) + rod_length * rod_length)
+    g = slider_point + s * d - O
+    gd = np.dot(g, d)
+    s_t = np.dot(g, O_t) / gd
+    g_t = s_t * d - O_t
+    s_tt = (np.dot(g, O_tt) - np.dot(g_t, g_t)) / gd
+    g_tt = s_tt * d - O_tt
+    e1, e1_t, e1_tt = g / rod_length, g_t / rod_length, g_tt / rod_length
+    ke, ke_t, ke_tt = np.dot(k, e1), np.dot(k, e1_t), np.dot(k, e1_tt)
+    v = k - ke * e1
+    v_t = -ke_t * e1 - ke * e1_t
+    v_tt = -ke_tt * e1 - 2.0 * ke_t * e1_t - ke * e1_tt
+    nu = np.sqrt(np.dot(v, v))
+    e3 = v / nu
+    nu_t = np.dot(e3, v_t)
+    e3_t = (v_t - nu_t * e3) / nu
+    nu_tt = np.dot(e3_t, v_t) + np.dot(e3, v_tt)
+    e3_tt = (v_tt - 2.0 * nu_t * e3_t - nu_tt * e3) / nu
+    e2 = np.cross(e3, e1)
+    e2_t = np.cross(e3_t, e1) + np.cross(e3, e1_t)
+    e2_tt = np.cross(e3_tt, e1) + 2.0 * np.cross(e3_t, e1_t) + np.cross(e3, e1_tt)
+    # e_i_t = w x e_i:  w1 = e2_t . e3, w2 = e3_t . e1, w3 = e1_t . e2; alpha = their derivatives
+    w = np.array([np.dot(e2_t, e3), np.dot(e3_t, e1), np.dot(e1_t, e2)])
+    alpha = np.array([np.dot(e2_tt, e3) + np.dot(e2_t, e3_t), np.dot(e3_tt, e1) + np.dot(e3_t, e1_t),
+                      np.dot(e1_tt, e2) + np.dot(e1_t, e2_t)])
+    A_O = np.array([np.dot(O_tt, e1), np.dot(O_tt, e2), np.dot(O_tt, e3)])
+    v_O = np.array([np.dot(O_t, e1), np.dot(O_t, e2), np.dot(O_t, e3)])
+    num = guide - np.dot(d, O)
+    den = np.dot(d, e1)
+    x_star = num / den
+    V_r = (-np.dot(d, O_t) * den - num * np.dot(d, e1_t)) / (den * den)
+    return A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3
