@@ -62,6 +62,8 @@ FIELDS = {
     "beam.height": ("m", "h", "section height, in the plane of bending"),
     "beam.modes": ("1", "N", "number of sine modes kept"),
     "beam.damping_ratio": ("1", "zeta", "modal viscous damping ratio of every mode"),
+    "beam.width_ratio": ("1", "", "linear taper: width at x = L over width at x = 0 (1: uniform)"),
+    "beam.height_ratio": ("1", "", "linear taper: height at x = L over height at x = 0 (1: uniform)"),
     "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
     "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
     "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),
