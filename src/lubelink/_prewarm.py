@@ -109,7 +109,8 @@ def main():
 
     from .config import from_dict, parse_toml
     from .integrate.driver import first_class, signatures
-    from .model import build_model, gap, rhs
+    from .assembly import build_model
+    from .model import gap, rhs
     from .results import collect
     from .simulate import Run
 

@@ -15,7 +15,8 @@ import numpy as np
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
-from .model import BackendError, build_model, compile_failed
+from .assembly import build_model, compile_failed
+from .errors import BackendError
 from .results import to_dataset
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name"]
