@@ -27,7 +27,6 @@ __all__ = [
     "curvature",
     "modal_energy",
     "linear_domain",
-    "linear_domain_many",
 ]
 
 
@@ -239,41 +238,18 @@ def modal_energy(q, q_dot, omega_n, mass):
     return 0.5 * mass * np.sum(np.asarray(q_dot) ** 2 + (omega_n * np.asarray(q)) ** 2, axis=-1)
 
 
-@jitable
 def linear_domain(q, rod_length, points):
-    """How far a state is into the linear theory's domain: ``(max |u2|/L, max |u2'|, stretching strain)`` [-].
+    """How far states are into the linear theory's domain: ``(max |u2|/L, max |u2'|, stretching strain)`` [-].
 
+    ``q`` [m] of shape ``(N,)`` or ``(T, N)``; the result has shape ``(3,)`` or ``(T, 3)``.
     ``u2`` and ``u2'`` are taken at ``points`` uniform points of ``[0, L]``; the stretching
     strain is the mean axial strain ``1/(2L) int u2'^2 dx = sum_n beta_n^2 q_n^2 / 4`` that a link
     of fixed length would have, which the linear (small-deflection) theory neglects.
     """
-    N = q.shape[0]
-    strain = 0.0
-    for n in range(N):
-        b = (n + 1) * np.pi / rod_length
-        strain += 0.25 * b * b * q[n] * q[n]
-    u_max = 0.0
-    slope_max = 0.0
-    for k in range(points):
-        x = rod_length * k / (points - 1)
-        u = 0.0
-        d = 0.0
-        for n in range(N):
-            b = (n + 1) * np.pi / rod_length
-            u += q[n] * np.sin(b * x)
-            d += q[n] * b * np.cos(b * x)
-        u_max = max(u_max, abs(u))
-        slope_max = max(slope_max, abs(d))
-    return u_max / rod_length, slope_max, strain
-
-
-@kernel
-def linear_domain_many(q, rod_length, points):
-    """:func:`linear_domain` of many states ``q`` ``(T, N)``: shape ``(T, 3)``."""
-    out = np.empty((q.shape[0], 3))
-    for i in range(q.shape[0]):
-        a, b, c = linear_domain(q[i], rod_length, points)
-        out[i, 0] = a
-        out[i, 1] = b
-        out[i, 2] = c
-    return out
+    q = np.asarray(q, dtype=float)
+    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
+    x = np.linspace(0.0, rod_length, points)
+    u = q @ np.sin(np.outer(beta, x))
+    slope = (q * beta) @ np.cos(np.outer(beta, x))
+    return np.stack([np.abs(u).max(axis=-1) / rod_length, np.abs(slope).max(axis=-1),
+                     0.25 * np.sum((beta * q) ** 2, axis=-1)], axis=-1)

@@ -99,11 +99,25 @@ def contact_point(x_c, at_edge, x0, pad_length):
 
 # --- the right-hand side ----------------------------------------------------------------------------
 @jitable
+def phase_side(phase):
+    """The side of the contact phase ``phase`` (0: none; ``phase`` None: a law without phases)."""
+    if phase is None:
+        return 0.0
+    return phase.side
+
+
+@jitable
+def phase_of(phase):
+    """``(side, v_minus [m/s], point [m])`` of ``phase`` (zeros for None), as plain numbers."""
+    if phase is None:
+        return 0.0, 0.0, 0.0
+    return phase.side, phase.v_minus, phase.point
+
+
+@jitable
 def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
     """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing)."""
     if phase is None:
-        return
-    if phase.side == 0.0 or p.contact.law != contact.COMPLIANT:
         return
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     contact.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
@@ -121,14 +135,17 @@ def rhs_given(t, kin, y, out, p):
     q_dot = yq[N:]
     F = out[N:]  # modal forces [N], accumulated here before the accelerations replace them
     F[:] = 0.0
-    film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
-    if p.model.equations == PRINTED_FILM_SIGN:
-        F *= -1.0
-    asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, L, F)
+    if p.film.model != film.NO_FILM:
+        film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
+        if p.model.equations == PRINTED_FILM_SIGN:
+            F *= -1.0
+    if p.film.roughness > 0.0:
+        asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, L, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)
-    _compliant_term(p.phase, q, q_dot, x_star, V_r, p, F)
+    if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
+        _compliant_term(p.phase, q, q_dot, x_star, V_r, p, F)
     gX, gY = p.mechanism.gravity
     A_eff = A_O2
     if gX != 0.0 or gY != 0.0:  # gravity along the link's j axis
@@ -136,32 +153,31 @@ def rhs_given(t, kin, y, out, p):
     if p.model.equations == DOUBLE_COUNT or p.model.equations == PRINTED:
         A_eff += omega * v_O1
     stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
-    _accelerations(p.galerkin, y, F, A_eff, alpha, omega, p.basis, p.beam.damping_ratio, stiffening, out)
+    zeta = p.beam.damping_ratio
+    if not section.uniform(p.galerkin):
+        _eigen_accelerations(p.galerkin, y, F, A_eff, alpha, omega, p.basis, zeta, stiffening, out)
+        return
+    m = p.basis.modal_mass
+    for n in range(N):
+        forcing = beam.rigid_load(A_eff, alpha, n + 1, L) + F[n] / m
+        if stiffening:
+            forcing -= 2.0 * omega * omega * y[n]
+        out[N + n] = beam.modal_acceleration(y[n], y[N + n], p.basis.omega_n[n], zeta, omega, forcing)
+        out[n] = y[N + n]
 
 
 @jitable
-def _accelerations(g, y, F, A_eff, alpha, omega, basis, zeta, stiffening, out):
-    """``out = dy/dt`` from the modal forces ``F`` [N] (aliasing ``out[N:]``): sine modes, or the eigenmodes of ``g``."""
-    if g is not None:
-        section.eigen_accelerations(g, y, F, A_eff, alpha, omega, basis.omega_n, zeta, basis.modal_mass,
-                                    stiffening, out)
+def _eigen_accelerations(g, y, F, A_eff, alpha, omega, basis, zeta, stiffening, out):
+    """:func:`~lubelink.section.eigen_accelerations` of the eigenbasis ``g`` (None: a uniform link, nothing)."""
+    if g is None:
         return
-    N = basis.modes
-    L = basis.rod_length
-    for n in range(N):
-        forcing = beam.rigid_load(A_eff, alpha, n + 1, L) + F[n] / basis.modal_mass
-        if stiffening:
-            forcing -= 2.0 * omega * omega * y[n]
-        out[N + n] = beam.modal_acceleration(y[n], y[N + n], basis.omega_n[n], zeta, omega, forcing)
-        out[n] = y[N + n]
+    section.eigen_accelerations(g, y, F, A_eff, alpha, omega, basis.omega_n, zeta, basis.modal_mass, stiffening, out)
 
 
 @jitable
 def in_sustained(phase, law):
     """Whether the segment is a sustained contact (restitution law, a phase with a side)."""
-    if phase is None:
-        return False
-    return law == contact.RESTITUTION and phase.side != 0.0
+    return law == contact.RESTITUTION and phase_side(phase) != 0.0
 
 
 @jitable
@@ -197,49 +213,63 @@ def sustained_given(t, kin, A_r, y, out, p, side, point):
 
 
 @jitable
-def _sustained_term(phase, t, kin, A_r, y, out, p):
-    """:func:`sustained_given` of ``phase`` if it is a sustained contact: ``(True, force [N])``, else ``(False, 0)``.
+def rhs_called(t, kin, y, out, p):
+    """:func:`rhs_given` compiled as a function of its own, for the callers off the hot path (it is inlined into :func:`rhs` only)."""
+    rhs_given(t, kin, y, out, p)
 
-    ``phase`` None (no contact law with phases) compiles to nothing.
-    """
+
+@jitable
+def _sustained_term(phase, t, kin, A_r, y, out, p):
+    """:func:`sustained_given` of the sustained contact ``phase`` (None: a law without phases, compiles to nothing)."""
     if phase is None:
-        return False, 0.0
-    if phase.side == 0.0 or p.contact.law != contact.RESTITUTION:
-        return False, 0.0
-    return True, sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
+        return 0.0
+    return sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
+
+
+@jitable
+def _sustained_event(phase, t, kin, A_r, y, p):
+    """The force [N] of the sustained contact ``phase``, the event of its segment (None: compiles to nothing)."""
+    if phase is None:
+        return 0.0
+    out = np.empty(y.shape[0])
+    rhs_called(t, kin, y, out, p)
+    return sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
 
 
 @jitable
 def rhs_with(t, kin, A_r, y, out, p):
-    """``dy/dt`` into ``out``: :func:`rhs_given` and, in a sustained contact, its constraint force."""
-    rhs_given(t, kin, y, out, p)
-    _sustained_term(p.phase, t, kin, A_r, y, out, p)
+    """``dy/dt`` into ``out``: :func:`rhs_given` and, in a sustained contact, its constraint force; return the force [N]."""
+    rhs_called(t, kin, y, out, p)
+    if in_sustained(p.phase, p.contact.law):
+        return _sustained_term(p.phase, t, kin, A_r, y, out, p)
+    return 0.0
 
 
-@jitable
+@jitable(inline=True)
 def event_with(t, kin, A_r, y, p):
     """The event: :func:`gap_given`, or in a sustained contact ``(force [N], 0, inf)``: it ends when the force falls to zero."""
     if in_sustained(p.phase, p.contact.law):
-        out = np.empty(y.shape[0])
-        rhs_given(t, kin, y, out, p)
-        return _sustained_term(p.phase, t, kin, A_r, y, out, p)[1], 0.0, np.inf
+        return _sustained_event(p.phase, t, kin, A_r, y, p), 0.0, np.inf
     return gap_given(t, kin, y, p)
 
 
 @kernel
 def rhs(t, y, out, p):
-    """``dy/dt`` of the modal ODE into ``out``."""
-    rhs_with(t, motion_at(t, p.motion), np.nan, y, out, p)
+    """``dy/dt`` of the modal ODE into ``out`` (:func:`rhs_with`, with :func:`rhs_given` inlined)."""
+    kin = motion_at(t, p.motion)
+    rhs_given(t, kin, y, out, p)
+    if in_sustained(p.phase, p.contact.law):
+        _sustained_term(p.phase, t, kin, np.nan, y, out, p)
 
 
-@jitable
+@jitable(inline=True)
 def thinnest_given(x_star, y, p):
     """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides (``y``: sine-mode state)."""
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     return contact.thinnest_film_sides(y[:p.basis.modes], x0, p.film, p.pad, p.basis.rod_length, 0.0)
 
 
-@jitable
+@jitable(inline=True)
 def gap_given(t, kin, y, p):
     """``(gap, rate, bound)``: thinnest film above breakdown, ``xi_min - min_film`` [m], its rate and a bound of the rate [m/s]."""
     N = p.basis.modes
@@ -275,7 +305,7 @@ def sustained_force_many(t, y, side, point, p):
     for i in range(t.shape[0]):
         if side[i] != 0.0:
             kin = motion_at(t[i], p.motion)
-            rhs_given(t[i], kin, y[i], d, p)
+            rhs_called(t[i], kin, y[i], d, p)
             out[i] = sustained_given(t[i], kin, np.nan, y[i], d, p, side[i], point[i])
     return out
 

@@ -167,6 +167,12 @@ def galerkin_table(section, youngs_modulus, density, modes, rod_length):
 
 # --- compiled: coordinates and the eigen-coordinate right-hand side ----------------------------------------
 @jitable
+def uniform(g):
+    """Whether the link is uniform (no eigenbasis ``g``: its state is the sine modes themselves)."""
+    return g is None
+
+
+@jitable
 def physical(g, y):
     """The sine-mode state ``[q, q_dot]`` of the integrator's state ``y`` (``y`` itself for a uniform link)."""
     if g is None:

@@ -178,10 +178,6 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     array costs two atomic reference-count updates in compiled code, which here would cost more
     than the arithmetic.)
     """
-    if f.reynolds != ONE_D:
-        return width_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, pad.zsin, F)
-    if f.cavitation == REYNOLDS:
-        return _reynolds_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, F)
     N = q.shape[0]
     mu = f.viscosity
     nodes = pad.quad.shape[1]
@@ -228,7 +224,7 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     return side * B * total
 
 
-@jitable
+@jitable(inline=True)
 def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
     """Modal film forces added to ``F`` [N]; returns the resultant film force on the link along +j [N].
 
@@ -264,9 +260,16 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
     for n in range(N):
         ws[n] = np.sin((n + 1) * np.pi / L * x0)
         ws[N + n] = np.cos((n + 1) * np.pi / L * x0)
-    total = _film_side(1.0, q, q_dot, ws, L, V_r, f, B, pad, F)
-    if f.sides == 2:
-        total += _film_side(-1.0, q, q_dot, ws, L, V_r, f, B, pad, F)
+    total = 0.0
+    for side in (1.0, -1.0):
+        if side < 0.0 and f.sides != 2:
+            break
+        if f.reynolds != ONE_D:
+            total += width_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, pad.zsin, F)
+        elif f.cavitation == REYNOLDS:
+            total += _reynolds_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, F)
+        else:
+            total += _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F)
     return total
 
 
