@@ -214,7 +214,8 @@ def test_progress_and_deadline():
     # about every 1 % of the interval (0.5 here; the steps are about 0.1 long)
     assert seg.status == "finished" and len(seen) >= 50
     assert np.all(np.diff(seen) >= 0) and np.max(np.diff(seen)) < 1.0 and seen[-1] == 50.0
-    late = solve(50.0, [1.0], "bulirsch-stoer", rtol=1e-10, atol=1e-13, deadline=0.0)
+    # the deadline is checked at each return to Python: after the first call's STEPS_PER_CALL steps
+    late = solve(50.0, [20.0], "bulirsch-stoer", rtol=1e-10, atol=1e-13, deadline=0.0)
     assert late.status == "timeout" and "wall-time budget" in late.message
     assert 0.0 < late.t_final < 50.0 and np.all(np.isfinite(late.y_final))
 
