@@ -46,6 +46,10 @@ def _cached(dispatcher, args) -> bool:
     return any(key[0] == args for key in index)
 
 
+#: Parameter types whose right-hand side is known to be compiled or cached, by identity.
+_WARM: dict = {}
+
+
 def start(model, motion=None):
     """The helper process compiling ``model``'s kernels, or None (nothing to gain; see the module)."""
     if (not model.compiled or motion is not None or os.environ.get("LUBELINK_PREWARM", "1") == "0" or _cores() < 2
@@ -55,8 +59,12 @@ def start(model, motion=None):
     from .integrate.driver import signatures
     from .model import rhs
 
-    args = signatures(model.params_type)[0].args
+    p_type = model.params_type
+    if id(p_type) in _WARM:  # (by identity: Numba types are interned, hashing this one walks all of it)
+        return None
+    args = signatures(p_type)[0].args
     if args in rhs.overloads or _cached(rhs, args):  # compiled in this process, or on disk
+        _WARM[id(p_type)] = p_type
         return None
     env = dict(os.environ, LUBELINK_PREWARM="0")
     try:

@@ -29,6 +29,36 @@ log = logging.getLogger("lubelink")
 
 
 # --- parameters ---------------------------------------------------------------------------------------
+def _layout(value):
+    """What decides the Numba type of ``value``: its Python type, and for an array its dimensions,
+    dtype and flags, recursively through tuples (None stays None)."""
+    if isinstance(value, tuple):
+        return type(value), tuple(_layout(v) for v in value)
+    if isinstance(value, np.ndarray):
+        f = value.flags
+        return value.ndim, value.dtype.str, f.c_contiguous, f.f_contiguous, f.writeable, f.aligned
+    return type(value)
+
+
+_PARAMS_TYPES: dict = {}
+
+
+def params_type(params):
+    """``numba.typeof(params)``, remembered by the layout of the parameters.
+
+    The type depends only on which tables are present and their array layouts, so every run of
+    a configuration (and every point of a sweep over real parameters) shares it; ``typeof`` of
+    the large named tuple itself costs about as much as integrating a short run.
+    """
+    key = _layout(params)
+    found = _PARAMS_TYPES.get(key)
+    if found is None:
+        import numba
+
+        found = _PARAMS_TYPES[key] = numba.typeof(params)
+    return found
+
+
 def _c(a):
     return np.ascontiguousarray(a, dtype=np.float64).copy()
 
@@ -78,10 +108,8 @@ class Model:
 
     @cached_property
     def params_type(self):
-        """The Numba type of :attr:`params` (the same for every phase), computed once."""
-        import numba
-
-        return numba.typeof(self.params)
+        """The Numba type of :attr:`params` (the same for every phase): :func:`params_type`."""
+        return params_type(self.params)
 
     @property
     def modes(self) -> int:

@@ -84,11 +84,13 @@ def domain_exit(model, y):
     beta = np.arange(1, model.modes + 1) * np.pi / L
     # |u2| <= sum |q_n| and |u2'| <= sum beta_n |q_n|: only the states these bounds do not clear are sampled
     a = np.abs(q)
-    bounds = np.stack([a.sum(axis=1) / L, (a * beta).sum(axis=1), 0.25 * ((beta * q) ** 2).sum(axis=1)], axis=1)
-    m = np.full_like(bounds, 0.0)
-    check = np.flatnonzero(~(bounds <= limits).all(axis=1))
-    if check.size:
-        m[check] = linear_domain(q[check], L, 16 + 8 * model.modes)
+    strain = 0.25 * ((beta * q) ** 2).sum(axis=1)
+    check = ~((a.sum(axis=1) / L <= limits[0]) & ((a * beta).sum(axis=1) <= limits[1]) & (strain <= limits[2]))
+    if not check.any():
+        return None
+    m = np.zeros((q.shape[0], 3))
+    m[:, 2] = strain
+    m[check] = linear_domain(q[check], L, 16 + 8 * model.modes)
     bad = ~(m <= limits)
     rows = np.flatnonzero(bad.any(axis=1))
     if rows.size == 0:

@@ -75,8 +75,9 @@ def _tables(beta, X):
     return np.sin(bX), np.cos(bX)
 
 
+@lru_cache(maxsize=64)
 def pad_tables(modes, rod_length, film: Film) -> PadTables:
-    """The :class:`PadTables` of ``modes`` sine modes on a link of length ``rod_length`` [m]."""
+    """The :class:`PadTables` of ``modes`` sine modes on a link of length ``rod_length`` [m] (cached: read only)."""
     beta = np.arange(1, modes + 1) * np.pi / rod_length
     l = film.pad_length
     s, w = gauss_legendre(film.quadrature_nodes)

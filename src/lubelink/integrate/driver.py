@@ -199,17 +199,34 @@ def first_class(dispatcher, sig):
     Passing a dispatcher itself would make Numba compile :func:`advance` for that dispatcher's
     type, which it cannot cache on disk; a first-class function type it can.
     """
-    key = (dispatcher, sig)
+    key = (id(dispatcher), id(sig))  # identities: hashing a signature hashes the whole parameter type
     with _lock:
-        found = _first_class_cache.get(key)
-        if found is None:
+        held = _first_class_cache.get(key)
+        if held is None:
             dispatcher.compile(sig.args)
-            found = _first_class_type()(dispatcher.overloads[sig.args])
-            _first_class_cache[key] = found
-        return found
+            held = _first_class_cache[key] = (dispatcher, sig, _first_class_type()(dispatcher.overloads[sig.args]))
+        return held[2]
 
 
-@lru_cache(maxsize=64)
+def _by_identity(func):
+    """Cache ``func(arg)`` by the identity of ``arg`` (a Numba type, or a tuple of them: types are
+    interned, and hashing a large tuple type walks all of it), holding ``arg`` so that identities stay unique."""
+    cache = {}
+
+    def cached(arg):
+        key = tuple(map(id, arg)) if isinstance(arg, tuple) else id(arg)
+        held = cache.get(key)
+        if held is None:
+            with _lock:
+                held = cache[key] = (arg, func(arg))
+        return held[1]
+
+    cached.__wrapped__ = func
+    cached.__doc__ = func.__doc__
+    return cached
+
+
+@_by_identity
 def signatures(p_type):
     """Numba signatures of ``(rhs, event, init, step, dense)`` for parameters of type ``p_type``."""
     from numba import types
@@ -225,7 +242,7 @@ def signatures(p_type):
     return rhs, event, init, step, dense
 
 
-@lru_cache(maxsize=64)
+@_by_identity
 def _entry_point(types_head):
     """:func:`advance` compiled for these argument types, called without Numba's type dispatch."""
     from numba import types
