@@ -18,8 +18,10 @@ Printed, in this order (``benchmarks/README.md`` records a run):
    (compiling what the default run needs) and warm, in one process and with the helper process
    of :mod:`lubelink._prewarm`, and ``lubelink compile`` (every kernel).
 
-``--compare-with PATH`` also times section 1 with the lubelink of another checkout (``PATH/src``
-imported in a subprocess) on the same machine in the same run, and prints the ratios.
+``--compare-with PATH`` also times ``simulate()`` and the compiled right-hand side and gap per call
+(in a compiled loop) with the lubelink of another checkout (``PATH/src``): one warm process per
+checkout, asked in turn (A B A B ...), so that the shared machine's drifting speed cancels in the
+ratios.
 
 Times are wall-clock on a shared machine: compare ratios within one run, not across runs.
 
@@ -79,29 +81,94 @@ def timed(fn, repeats):
 
 
 # --- 1. simulate() end to end ---------------------------------------------------------------------------
-SIMULATE_SNIPPET = """
-import json, statistics, sys, time
+SERVER_SNIPPET = """
+import sys, time
+import numpy as np
 import lubelink
-cases, repeats = json.loads(sys.argv[1]), int(sys.argv[2])
-out = []
-for scenario, modes in cases:
-    lubelink.simulate(scenario, {"beam.modes": modes})
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        lubelink.simulate(scenario, {"beam.modes": modes})
-        times.append(time.perf_counter() - start)
-    out.append([statistics.median(times), min(times)])
-print(json.dumps(out))
+from lubelink.config import resolve
+from lubelink.model import build_model, gap, rhs
+try:
+    import numba
+except ImportError:
+    numba = None
+if numba is not None:
+    @numba.njit
+    def loop_rhs(n, y, out, p):
+        for i in range(n):
+            rhs(0.1 + i * 1e-7, y, out, p)
+    @numba.njit
+    def loop_gap(n, y, p):
+        for i in range(n):
+            gap(0.1 + i * 1e-7, y, p)
+cache = {}
+print("ready", flush=True)
+for line in sys.stdin:
+    scenario, modes, what = line.split()
+    key = (scenario, int(modes))
+    if key not in cache:
+        p = build_model(resolve(scenario, {"beam.modes": key[1]})).params
+        y = np.full(2 * key[1], 1e-5)
+        cache[key] = (p, y, np.empty_like(y))
+        lubelink.simulate(scenario, {"beam.modes": key[1]})
+        if numba is not None:
+            loop_rhs(1, y, cache[key][2], p)
+            loop_gap(1, y, p)
+    p, y, out = cache[key]
+    start = time.perf_counter()
+    if what == "simulate":
+        lubelink.simulate(scenario, {"beam.modes": key[1]})
+        print(time.perf_counter() - start, flush=True)
+    elif what == "rhs":
+        loop_rhs(20000, y, out, p)
+        print((time.perf_counter() - start) / 20000, flush=True)
+    else:
+        loop_gap(20000, y, p)
+        print((time.perf_counter() - start) / 20000, flush=True)
 """
 
 
-def simulate_elsewhere(src, cases, repeats):
-    """``simulate()`` timings of the lubelink under ``src`` (a ``src`` folder), in a subprocess."""
-    env = dict(os.environ, PYTHONPATH=str(src))
-    done = subprocess.run([sys.executable, "-c", SIMULATE_SNIPPET, json.dumps(cases), str(repeats)], env=env,
-                          capture_output=True, text=True, check=True)
-    return json.loads(done.stdout.strip().splitlines()[-1])
+def servers(sources):
+    """One warm process per ``src`` folder, timing on request (:data:`SERVER_SNIPPET`)."""
+    procs = []
+    for src in sources:
+        env = dict(os.environ, PYTHONPATH=str(src), LUBELINK_PREWARM="0")
+        proc = subprocess.Popen([sys.executable, "-c", SERVER_SNIPPET], env=env, stdin=subprocess.PIPE,
+                                stdout=subprocess.PIPE, text=True)
+        if proc.stdout.readline().strip() != "ready":
+            raise RuntimeError(f"the lubelink in {src} did not start")
+        procs.append(proc)
+    return procs
+
+
+def interleaved(procs, request, repeats):
+    """The minimum of ``repeats`` timings of ``request`` in each process, asked in turn (A B A B ...)."""
+    times = [[] for _ in procs]
+    for _ in range(repeats + 1):  # the first round warms up (compiles, fills caches)
+        for proc, found in zip(procs, times):
+            proc.stdin.write(request + "\n")
+            proc.stdin.flush()
+            found.append(float(proc.stdout.readline()))
+    return [min(found[1:]) for found in times]
+
+
+def compare(other, repeats):
+    """``simulate()`` and the compiled right-hand side and gap per call, this checkout against ``other``,
+    timed in turn in two warm processes so that the machine's drifting speed cancels in the ratios."""
+    here = Path(__file__).resolve().parents[1] / "src"
+    src = Path(other).resolve() / "src"
+    print(f"\n   against the lubelink in {src}: two warm processes timed in turn, minimum of {repeats}")
+    print(f"{'case':<16}{'modes':>5}  {'what':<10}{'other':>12}{'this':>12}{'this/other':>12}")
+    procs = servers([src, here])
+    try:
+        for scenario, modes in CASES:
+            for what in ("simulate", "rhs", "gap"):
+                theirs, mine = interleaved(procs, f"{scenario} {modes} {what}", repeats)
+                unit = (lambda v: f"{1e9 * v:9.0f} ns") if what != "simulate" else ms
+                print(f"{scenario:<16}{modes:>5}  {what:<10}{unit(theirs):>12}{unit(mine):>12}{mine / theirs:>11.2f}x")
+    finally:
+        for proc in procs:
+            proc.stdin.close()
+            proc.wait()
 
 
 def bench_simulate(args):
@@ -127,12 +194,7 @@ def bench_simulate(args):
               f"{ms(t_run):>12}{ms(t_col):>12}{ms(t_xr):>12}{r.nfev:>8}{r.nsteps:>7}")
         rows.append((t_sim, t_min))
     if args.compare_with:
-        src = Path(args.compare_with).resolve() / "src"
-        print(f"\n   against the lubelink in {src} (subprocess, same cases, same repeats)")
-        other = simulate_elsewhere(src, CASES, args.repeats)
-        print(f"{'case':<16}{'modes':>5}{'other':>12}{'this':>12}{'ratio':>8}")
-        for (scenario, modes), (mine, _), (theirs, _) in zip(CASES, rows, other):
-            print(f"{scenario:<16}{modes:>5}{ms(theirs):>12}{ms(mine):>12}{theirs / mine:>7.1f}x")
+        compare(args.compare_with, args.repeats)
     return rows
 
 

@@ -84,14 +84,16 @@ class _PyKernel:
 def jitable(func=None, *, inline=False):
     """Mark ``func`` as compilable into kernels; from Python it stays the plain function.
 
-    ``inline=True`` inlines it into its callers in Numba's IR, before typing: for the functions
-    called in the hot loops with many arguments, where a call costs more than the arithmetic (it
-    passes every array and tuple member). Such a function must not rely on a ``None`` argument
-    to prune its branches (the pruning is by the types of a compiled function's own arguments).
-    Inlining costs compile time, paid on a first run: the film force inlined into the right-hand
-    side made the cold ``lubelink run`` compile 2.6x longer (71 s against 27 s of CPU) for 15 %
-    of the ``paper`` run's speed, so it is used only where it was measured to pay
-    (``model.rhs_given``, the DOP853 stage).
+    ``inline=True`` inlines it into its callers in Numba's IR, before typing: for the thin functions
+    called in the hot loops with the whole parameter structure, where a call costs more than the
+    arithmetic (it passes every member, and every array costs reference counts). Such a function
+    must not rely on a ``None`` argument to prune its branches (the pruning is by the types of a
+    compiled function's own arguments): it calls small non-inlined functions for that
+    (``model.phase_side``, ``section.uniform``). Inlining costs compile time, paid on a first run:
+    the whole film force inlined into the right-hand side made the cold ``lubelink run`` compile
+    2.6x longer for 15-25 % of the ``paper`` run's speed, so only the dispatchers are inlined
+    (``model.rhs_given``, ``model.event_with``, ``model.gap_given``, ``model.thinnest_given``,
+    ``film.modal_film_force``, the DOP853 stage), not the film's equations.
     """
     if func is None:
         return lambda f: jitable(f, inline=inline)
