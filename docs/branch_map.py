@@ -3,8 +3,9 @@
     python docs/branch_map.py [OUTDIR] [--recompute]     # default docs/figures
 
 The maps (:func:`lubelink.paper.branch_map`, the paper's model: wedge film, no cavitation) are
-stored beside the figure as ``fig9-branch-map-<N>mode.nc`` and reused unless ``--recompute`` is
-given (1 mode: about 14,000 runs, 8 min on a busy core; 5 modes: about 2,000 runs, 10 min).
+written beside the figure as ``fig9-branch-map-<N>mode.nc`` (local files: ``*.nc`` is not in git)
+and reused unless ``--recompute`` is given (1 mode and its zoom: 13,884 runs, 12 min; 5 modes:
+3,168 runs, 19 min; one process, measured at ``nice -n 19`` on 2 shared cores).
 The windows found (clearance intervals whose first impact is within 2 ms of 1.273 s) are also
 written as ``fig9-windows.csv``. Everything is written atomically.
 """

@@ -231,3 +231,30 @@ def test_every_output_is_written_through_the_atomic_helper():
                 problems.append(f"{rel}:{call.lineno}: {name} writes {ast.unparse(target)}, not an atomic_path temporary")
     assert checked >= 10
     assert not problems, "\n".join(problems)
+
+
+class _Refused(Exception):
+    pass
+
+
+def test_read_netcdf_reads_a_file_and_names_the_path_when_it_cannot(tmp_path):
+    import numpy as np
+    import xarray as xr
+
+    good = tmp_path / "good.nc"
+    xr.Dataset({"a": ("t", np.arange(3.0))}, attrs={"kind": "test"}).to_netcdf(good, engine="netcdf4")
+    ds = _files.read_netcdf(good, "test file")
+    assert ds.attrs["kind"] == "test" and list(ds.a.values) == [0.0, 1.0, 2.0]
+    good.unlink()  # loaded into memory: the file is not held open
+    with pytest.raises(_Refused, match=r"missing\.nc: no such test file$"):
+        _files.read_netcdf(tmp_path / "missing.nc", "test file", _Refused)
+    with pytest.raises(_Refused, match=r"folder\.nc: a folder, not a test file$"):
+        (tmp_path / "folder.nc").mkdir()
+        _files.read_netcdf(tmp_path / "folder.nc", "test file", _Refused)
+    foreign = tmp_path / "foreign.nc"
+    foreign.write_text("not netcdf")
+    with pytest.raises(_Refused, match=r"^as typed: not a readable NetCDF file \(") as info:
+        _files.read_netcdf(foreign, "test file", _Refused, name="as typed")
+    assert info.value.__cause__ is None and info.value.__suppress_context__
+    with pytest.raises(ValueError, match="foreign.nc: not a readable NetCDF file"):
+        _files.read_netcdf(foreign, "test file")

@@ -766,6 +766,32 @@ def test_reynolds_cavitation_modal_force(p_cav):
         assert_allclose(t, t_ref, rtol=0, atol=tol * scale)
 
 
+def test_grid_modal_force_is_the_trapezoidal_sine_transform():
+    """grid_modal_force (the Reynolds-cavitation and finite-width films' last step) against quadrature:
+    the error of the trapezoidal rule falls like h^2, the scale and the side multiply."""
+    from lubelink.film.force import _tables
+    from lubelink.film.reynolds import grid_modal_force
+
+    x0, P0, N = 0.31, 2.5e4, 3
+    beta = np.arange(1, N + 1) * np.pi / ROD
+    ws = np.r_[np.sin(beta * x0), np.cos(beta * x0)]
+    ref = np.array([-WIDTH * integrate.quad(lambda X: P0 * np.sin(np.pi * X / PAD) * np.sin(b * (x0 + X)), 0.0, PAD,
+                                            **QUAD)[0] for b in beta])
+    t_ref = -WIDTH * P0 * 2 * PAD / np.pi
+    errors = []
+    for G in (51, 101, 201):
+        grid = np.linspace(0.0, PAD, G)
+        trig = np.stack(_tables(beta, grid) + _tables(beta, grid))
+        F = np.zeros(N)
+        total = grid_modal_force(1.0, P0 * np.sin(np.pi * grid / PAD), grid[1], WIDTH, ws, trig, F)
+        errors.append(max(np.abs(F - ref).max(), abs(total - t_ref)) / abs(t_ref))
+        F_lower = np.zeros(N)
+        lower = grid_modal_force(-1.0, P0 * np.sin(np.pi * grid / PAD), grid[1], 1.0, ws, trig, F_lower)
+        assert_allclose(F_lower, -F / WIDTH, rtol=1e-14)
+        assert lower == pytest.approx(-total / WIDTH, rel=1e-14)
+    assert errors[-1] < 1e-4 and 3.9 < errors[0] / errors[1] < 4.1 and 3.9 < errors[1] / errors[2] < 4.1
+
+
 # ----------------------------------------------------------------------------------
 # 7. Bad input
 # ----------------------------------------------------------------------------------

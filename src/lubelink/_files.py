@@ -14,6 +14,7 @@ processes of this host that are gone (:func:`remove_stale_temporaries`).
 
 :func:`target_problem` tells, before any work is done, why a target could not be written (not a
 regular file, folder missing or not writable), so that a long computation is not lost at the end.
+:func:`read_netcdf` reads a NetCDF file back, with an error naming the file when it cannot.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 __all__ = ["atomic_path", "umask_mode", "target_problem", "folder_problem", "remove_stale_temporaries",
-           "publish", "fallback_path"]
+           "publish", "fallback_path", "read_netcdf"]
 
 #: Temporaries of the former naming (``mkstemp``: no process id) older than this are removed [s].
 LEGACY_STALE_AGE = 3600.0
@@ -297,3 +298,27 @@ def fallback_path(path, folders=()) -> Path | None:
         if folder_problem(folder) is None and not (folder / name).exists():
             return folder / name
     return None
+
+
+# ====================================================================== reading
+def read_netcdf(path, what, error=ValueError, name=None):
+    """The NetCDF file ``path`` loaded into memory as an :class:`xarray.Dataset`.
+
+    Raises ``error`` (the caller's error type) with a message naming the file: ``"<path>: no such
+    <what>"`` when there is nothing there, ``"<path>: a folder, not a <what>"`` (or another kind of
+    file), ``"<path>: not a readable NetCDF file (<why>)"`` when the
+    netCDF4 backend cannot read it (it raises many types for a foreign file). ``name`` replaces
+    ``<path>`` in the messages (e.g. the spelling the user gave).
+    """
+    import xarray as xr
+
+    path = Path(path)
+    shown = str(path) if name is None else name
+    if not path.exists():
+        raise error(f"{shown}: no such {what}")
+    if not path.is_file():
+        raise error(f"{shown}: {_kind(path.stat().st_mode)}, not a {what}")
+    try:
+        return xr.load_dataset(path, engine="netcdf4")
+    except Exception as exc:  # noqa: BLE001 - the backend raises many types for a foreign file
+        raise error(f"{shown}: not a readable NetCDF file ({exc})") from None

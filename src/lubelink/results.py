@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._files import atomic_path, target_problem
+from ._files import atomic_path, read_netcdf, target_problem
 
 __all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "to_dataset", "write", "save", "load",
            "config_of", "atomic_path", "ResultsFileError", "versions", "output_problem", "NETCDF_SUFFIXES",
@@ -379,15 +379,8 @@ def save(dataset, path, overwrite=False):
 
 def load(path):
     """Read a results file written by :func:`save`, checking its format version."""
-    import xarray as xr
-
     path = Path(path)
-    if not path.exists():
-        raise ResultsFileError(f"{path}: no such results file")
-    try:
-        ds = xr.load_dataset(path, engine="netcdf4")
-    except Exception as exc:  # the backend raises many types for a foreign file
-        raise ResultsFileError(f"{path}: not a readable NetCDF file ({exc})") from None
+    ds = read_netcdf(path, "results file", ResultsFileError)
     version = str(ds.attrs.get("lubelink_format", ""))
     if version.split(".")[0] != FORMAT_VERSION.split(".")[0]:
         raise ResultsFileError(f"{path}: results format {version or 'missing'}, "

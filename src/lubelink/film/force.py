@@ -15,8 +15,8 @@ import numpy as np
 from .._jit import jitable, kernel
 from ..params import Film, kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
-                       WEDGE_SQUEEZE, effective_film, pad_start, pressure_gradient, reynolds_cavitation,
-                       reynolds_constant)
+                       WEDGE_SQUEEZE, effective_film, grid_modal_force, pad_start, pressure_gradient,
+                       reynolds_cavitation, reynolds_constant)
 from .width import ONE_D, width_side, width_sines
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
@@ -130,15 +130,7 @@ def _reynolds_side(side, q, q_dot, ws, V_r, f, B, grid_trig, F):
         xi_mid[k] = effective_film(xi_mid[k], f.thickness_floor)
     p = np.empty(G)
     reynolds_cavitation(grid, xi_mid, xi_t, V_r, f.viscosity, f.cavitation_pressure - f.ambient_pressure, p)
-    total = 0.0
-    for k in range(G):
-        total += h * p[k]
-    for n in range(N):
-        acc = 0.0
-        for k in range(G):
-            acc += p[k] * (ws[n] * grid_trig[COS, n, k] + ws[N + n] * grid_trig[SIN, n, k])
-        F[n] -= side * B * h * acc
-    return -side * B * total
+    return grid_modal_force(side, p, h, B, ws, grid_trig, F)  # p = 0 at the pad ends: the trapezoidal rule
 
 
 @jitable

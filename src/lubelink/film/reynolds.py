@@ -2,7 +2,8 @@
 
 The equations every film computation uses (see the package docstring): :func:`reynolds_constant`
 and :func:`pressure_gradient` are the closed-form first integral, :func:`reynolds_cavitation`
-the Swift-Stieber condition on a pad grid; :func:`pad_start` places the pad on the link.
+the Swift-Stieber condition on a pad grid, :func:`grid_modal_force` the modal forces of a pressure on
+that grid; :func:`pad_start` places the pad on the link.
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ import numpy as np
 from .._jit import jitable
 from ..params import CHOICES
 
-__all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film"]
+__all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film",
+           "grid_modal_force"]
 
 NO_FILM, WEDGE, WEDGE_SQUEEZE = (CHOICES["film.model"].index(v) for v in ("none", "wedge", "wedge+squeeze"))
 FULL, HALF_SOMMERFELD, REYNOLDS = (CHOICES["film.cavitation"].index(v)
@@ -166,3 +168,28 @@ def reynolds_cavitation(grid, xi_mid, xi_t, V_r, mu, p_cav, out):
     out[n + 1] = 0.0
     for i in range(n):
         out[i + 1] = max(p[i], p_cav)
+
+
+@jitable
+def grid_modal_force(side, p, h, scale, ws, grid_trig, F):
+    """Add the modal forces [N] of a film pressure on the uniform pad grid to ``F``; return the resultant along +j [N].
+
+    ``F_n -= side scale h sum_k p_k sin(beta_n (x0 + X_k))`` with ``sin(beta_n (x0 + X)) = sin(beta_n x0)
+    cos(beta_n X) + cos(beta_n x0) sin(beta_n X)``: ``p`` the pressure [Pa] (``scale`` the pad width
+    ``B`` [m]) or the pressure integrated across the width [Pa m] (``scale`` 1 [-]) at the ``G`` grid
+    points, already weighted for the trapezoidal rule (zero at the pad ends, or halved there), ``h``
+    [m] the grid step, ``ws`` holding ``sin``, ``cos(beta_n x0)`` in its first ``2 N`` entries,
+    ``grid_trig`` the ``sin``, ``cos`` of ``beta_n X_k`` (rows :data:`SIN`, :data:`COS`).
+    The resultant is ``-side scale h sum_k p_k``.
+    """
+    N = F.shape[0]
+    G = p.shape[0]
+    total = 0.0
+    for k in range(G):
+        total += h * p[k]
+    for n in range(N):
+        acc = 0.0
+        for k in range(G):
+            acc += p[k] * (ws[n] * grid_trig[COS, n, k] + ws[N + n] * grid_trig[SIN, n, k])
+        F[n] -= side * scale * h * acc
+    return -side * scale * total

@@ -33,7 +33,7 @@ import numpy as np
 
 from .._jit import jitable, kernel
 from ..params import CHOICES
-from .reynolds import COS, SIN, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, pad_start
+from .reynolds import COS, SIN, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, grid_modal_force, pad_start
 
 __all__ = ["ONE_D", "TWO_D", "SHORT", "width_film", "width_pressure", "centre_pressure_many", "width_sines"]
 
@@ -202,15 +202,7 @@ def width_side(side, q, q_dot, ws, V_r, f, B, grid_trig, zsin, F):
                f.cavitation_pressure - f.ambient_pressure, zsin, P, pc)
     P[0] *= 0.5  # trapezoidal weights
     P[G - 1] *= 0.5
-    total = 0.0
-    for k in range(G):
-        total += h * P[k]
-    for n in range(N):
-        acc = 0.0
-        for k in range(G):
-            acc += P[k] * (ws[n] * grid_trig[COS, n, k] + ws[N + n] * grid_trig[SIN, n, k])
-        F[n] -= side * h * acc
-    return -side * total
+    return grid_modal_force(side, P, h, 1.0, ws, grid_trig, F)  # P is integrated across the width already
 
 
 @kernel

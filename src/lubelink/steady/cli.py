@@ -214,7 +214,7 @@ def _save_figure(branches, path, title=None, log=True):
 
 
 def _cmd_plot_branch(args):
-    import xarray as xr
+    from .._files import read_netcdf
 
     out = _target(args, "", given=args.output)
     branches = {}
@@ -222,10 +222,7 @@ def _cmd_plot_branch(args):
         p = Path(name)
         if not p.is_file():
             raise UsageError(f"FILE.nc = {name!r}: no such branch file")
-        try:
-            ds = xr.load_dataset(p, engine="netcdf4")
-        except Exception as exc:  # the backend raises many types for a foreign file
-            raise UsageError(f"{name}: not a readable NetCDF file ({exc})") from None
+        ds = read_netcdf(p, "branch file", UsageError, name=name)
         if "max_modulus" not in ds or "parameter" not in ds:
             raise UsageError(f"{name}: not a branch file of 'lubelink continue'")
         branches[p.stem] = ds

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_path
+from .._files import atomic_path, read_netcdf
 from .layout import _template
 from .schema import ALWAYS, QUANTITIES, SWEEP_FORMAT, SweepError
 from .spec import Sweep
@@ -343,12 +343,7 @@ def load_sweep(path):
 
     path = Path(path)
     if _is_netcdf(path) and not _side_store(path).exists():
-        if not path.exists():
-            raise SweepError(f"{path}: no such sweep results file")
-        try:
-            ds = xr.load_dataset(path, engine="netcdf4")
-        except Exception as exc:  # noqa: BLE001 - the backend raises many types for a foreign file
-            raise SweepError(f"{path}: not a readable NetCDF file ({exc})") from None
+        ds = read_netcdf(path, "sweep results file", SweepError)
         _check_format(path, ds.attrs)
         return _normalise(ds)
     if _is_netcdf(path):
