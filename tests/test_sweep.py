@@ -279,7 +279,9 @@ def test_failing_points_are_recorded_and_the_others_complete(reference):
 @on_cluster
 def test_timeouts_netcdf_output_resume_and_retry(client, tmp_path):
     data = {"base": "paper", "set": dict(TINY),
-            "points": [{"solver.max_wall_time": 1e-6}, {"solver.max_wall_time": 100.0}]}
+            # max_step: more steps than the driver's first call takes, after which the budget is checked
+            "points": [{"solver.max_wall_time": 1e-6, "solver.max_step": 1e-4},
+                       {"solver.max_wall_time": 100.0, "solver.max_step": 1e-4}]}
     out, trace = tmp_path / "points.nc", tmp_path / "trace.log"
     ds = run_sweep(data, out, client=client, progress=False, trace=trace)
     assert out.is_file() and not (tmp_path / "points.nc.partial.zarr").exists()
