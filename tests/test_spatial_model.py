@@ -117,9 +117,9 @@ def _scipy_reference(config, t_eval):
 
 
 def test_spatial_scenario_runs_on_both_backends_and_methods():
-    """Complete; numba/numpy equal; exponential and DOP853 within 1e-6 of the peak of each direction;
+    """Complete; numba/numpy equal; exponential and DOP853 within 1e-7 of the peak of each direction;
     the dry run equals a direct SciPy integration of the equations within 1e-5 of the peaks."""
-    over = {"solver.t_end": 0.1}
+    over = {"solver.t_end": 0.1, **TIGHT}  # u1 (0.6 um) lies far below the default atol
     runs = {(method, backend): lubelink.simulate("spatial-slider-crank", set={
         **over, "solver.method": method, "solver.backend": backend})
         for method, backend in [("exponential", "numba"), ("DOP853", "numba"), ("exponential", "numpy")]}
@@ -131,10 +131,10 @@ def test_spatial_scenario_runs_on_both_backends_and_methods():
         peak = np.max(np.abs(ex[name].values))
         assert peak > 0.0
         np.testing.assert_allclose(ex_np[name].values, ex[name].values, rtol=0, atol=1e-9 * peak)
-        np.testing.assert_allclose(dop[name].values, ex[name].values, rtol=0, atol=1e-6 * peak)
+        np.testing.assert_allclose(dop[name].values, ex[name].values, rtol=0, atol=1e-7 * peak)  # measured 7e-9
     assert np.max(np.abs(ex.u3_mid.values)) > 1e-4  # out of the plane indeed
     # dry, against SciPy on the equations themselves
-    dry = lubelink.simulate("spatial-slider-crank", set={**over, **TIGHT, "film.model": "none"})
+    dry = lubelink.simulate("spatial-slider-crank", set={**over, "film.model": "none"})
     cfg = resolve("spatial-slider-crank", {**over, "film.model": "none"})
     ref = _scipy_reference(cfg, dry.time.values[1:])
     N = cfg.beam.modes
