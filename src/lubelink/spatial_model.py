@@ -10,8 +10,11 @@ the spatial slider-crank (:mod:`lubelink.spatial_motion`). The equations are
 parameters are the planar :class:`~lubelink.model.Params` (its basis: the ``N`` in-plane modes
 the film and gap use) with :class:`SpatialTable` in ``Params.spatial``.
 
-Not supported (refused by the validation): a contact law, a collar mass, a variable section,
-the paper's printed equations, a user-supplied motion.
+Contact on the ``u2`` faces: the compliant force (on ``q2``) and the restitution impacts (the
+jump of ``q2_t``: the mass matrix is diagonal across the directions) as in the planar model; a
+Zeno sequence of impacts stops the run with status ``chatter`` (no sustained contact yet).
+Not supported (refused by the validation): a collar mass, a variable section, the paper's
+printed equations, a user-supplied motion.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from . import contact, film, spatial
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
 from .film import asperity
-from .model import thinnest_given
+from .model import _compliant_term, phase_side, thinnest_given
 from .spatial_motion import SpatialMotion, SpatialSliderCrank, spatial_motion_at
 
 __all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "SpatialModel", "build_spatial_model"]
@@ -66,6 +69,8 @@ def spatial_rhs_given(kin, y, out, p):
         film.modal_film_force(q2, q2_t, x_star, V_r, p.film, p.beam.width, p.pad, L, F2)
     if p.film.roughness > 0.0:
         asperity.modal_asperity_force(q2, x_star, p.film, p.beam.width, p.pad, L, F2)
+    if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
+        _compliant_term(p.phase, q2, q2_t, x_star, V_r, p, F2)
     A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
     spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
 
@@ -117,9 +122,15 @@ class SpatialModel(Model):
         return np.zeros(6 * self.modes)
 
     def planar_state(self, y):
-        """``[q2, q2_t]`` of states ``y`` ``(..., 6 N)``: the in-plane block the film, gap and results read."""
+        """``[q2, q2_t]`` of states ``y`` ``(..., 6 N)``: the in-plane block the film, gap and results read.
+
+        An in-plane state ``(..., 2 N)`` is returned as it is (the planar methods this class
+        reuses call each other with in-plane states).
+        """
         y = np.asarray(y, dtype=float)
         N = self.modes
+        if y.shape[-1] == 2 * N:
+            return y
         return np.concatenate([y[..., N:2 * N], y[..., 4 * N:5 * N]], axis=-1)
 
     def deflections(self, y, x):
@@ -143,6 +154,26 @@ class SpatialModel(Model):
 
     def thinnest_film(self, t, y):
         return super().thinnest_film(t, self.planar_state(y))
+
+    def approach(self, t, y):
+        return super().approach(t, self.planar_state(y))
+
+    def impact(self, t, y, restitution=None):
+        """The restitution law on the ``u2`` faces: the jump of ``q2_t`` (:meth:`Model.impact` on the ``q2`` block)."""
+        yp, x_c, v_minus, side = super().impact(t, self.planar_state(y), restitution)
+        N = self.modes
+        y_plus = np.array(y, dtype=float)
+        y_plus[4 * N:5 * N] = yp[N:]
+        return y_plus, x_c, v_minus, side
+
+    def contact_force(self, t, y, phase):
+        return super().contact_force(t, self.planar_state(y), phase)
+
+    def film_loads(self, t, y):
+        return super().film_loads(t, self.planar_state(y))
+
+    def sustained_force(self, t, y, side, point):
+        raise NotImplementedError("sustained contact is not implemented for the spatial model")
 
 
 def build_spatial_model(config, motion=None, section=None) -> SpatialModel:

@@ -248,12 +248,9 @@ def validate(config: Config) -> Config:
 
 def _spatial_problems(config):
     """What ``beam.model = "spatial"`` does not support yet, one message each (docs/spatial.md, "Limitations")."""
-    b, ct = config.beam, config.contact
+    b = config.beam
     why = "is not supported with beam.model = 'spatial' (docs/spatial.md, Limitations); "
     out = []
-    if ct.law != "none":
-        out.append(f"contact.law = {_fmt(ct.law)}: {why}use contact.law = 'none' (the run stops with status "
-                   "film_breakdown when the film reaches contact.min_film) or beam.model = 'planar'")
     if not b.uniform:
         out.append(f"beam.width_ratio = {b.width_ratio}, beam.height_ratio = {b.height_ratio}: a variable section "
                    f"{why}set both to 1 or beam.model = 'planar'")
