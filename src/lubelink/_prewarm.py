@@ -53,7 +53,7 @@ _WARM: dict = {}
 def start(model, motion=None):
     """The helper process compiling ``model``'s kernels, or None (nothing to gain; see the module)."""
     if (not model.compiled or motion is not None or os.environ.get("LUBELINK_PREWARM", "1") == "0" or _cores() < 2
-            or os.name != "posix"):  # select() on a pipe
+            or os.name != "posix" or model.params.spatial is not None):  # select() on a pipe; planar kernels only
         return None
     from .config import to_toml
     from .integrate.driver import signatures

@@ -120,6 +120,15 @@ class Model:
         return self.params.basis.omega_n
 
     @property
+    def state_frequencies(self) -> np.ndarray:
+        """The natural frequencies of the integrator's state [rad/s] (the exponential method's ``omega``)."""
+        return self.params.basis.omega_n
+
+    def planar_state(self, y):
+        """The in-plane states ``[q, q_dot]`` of states ``y`` (``y`` itself; the spatial model's ``q2`` block)."""
+        return y
+
+    @property
     def modal_mass(self) -> float:
         return self.params.basis.modal_mass
 
@@ -330,6 +339,10 @@ def build_model(config: Config, motion=None, section=None) -> Model:
     BackendError
         ``solver.backend = "numba"`` for a configuration the compiled path cannot run.
     """
+    if config.beam.model == "spatial":
+        from .spatial_model import build_spatial_model
+
+        return build_spatial_model(config, motion, section)
     motion = SliderCrank(config.mechanism) if motion is None else motion
     compiled, note = _backend(config, motion)
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):

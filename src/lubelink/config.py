@@ -72,6 +72,16 @@ SCENARIOS: dict[str, dict] = {
                  "roughness": 1.0e-6, "thickness_floor": 1.0e-6},
         "contact": {"law": "restitution", "restitution": 0.7, "min_film": 2.0e-7},
     },
+    "spatial-slider-crank": {
+        "description": "The spatial link (docs/spatial.md): the slider-crank with its crank axis tilted 0.2 rad "
+                       "about the slider line and the slider line 5 cm out of the plane (RSSP), u1, u2, u3 "
+                       "with 3 modes each, wedge film on the u2 faces, 0-0.5 s",
+        "mechanism": {"crank_tilt": 0.2, "slider_offset": 0.05},
+        "beam": {"model": "spatial", "modes": 3},
+        "film": {"model": "wedge"},
+        "contact": {"law": "none"},
+        "solver": {"t_end": 0.5},
+    },
 }
 
 

@@ -368,6 +368,7 @@ class ContactLogic:
         model = self.model
         ct = model.config.contact
         N = model.modes
+        planar = model.planar_state  # the records hold the in-plane modes (the spatial model's q2 block)
         if ct.law == "none":
             return ("film_breakdown",
                     f"the film thinned to contact.min_film = {ct.min_film} m at t = {t_after:.9g} s and "
@@ -376,11 +377,12 @@ class ContactLogic:
         if ct.law == "compliant":
             v, x_c, side = model.approach(t_after, y_after)
             if phase is None:  # the film closes: contact from the first state below min_film
-                self.impacts.append([t_after, x_c, v, np.nan, side, y_after[:N].copy(), y_after[N:].copy(), None])
+                self.impacts.append([t_after, x_c, v, np.nan, side, planar(y_after)[:N].copy(),
+                                     planar(y_after)[N:].copy(), None])
                 self.contacts.append([t_after, np.nan, side])
                 return None, "", t_after, y_after, (side, v)
             self.impacts[-1][3] = v  # the film reopens
-            self.impacts[-1][7] = y_after[N:].copy()
+            self.impacts[-1][7] = planar(y_after)[N:].copy()
             self.contacts[-1][1] = t_after
             return None, "", t_after, y_after, None
         if phase is not None:  # a sustained contact ends: its force fell to zero
@@ -390,19 +392,21 @@ class ContactLogic:
         y_plus, x_c, v_minus, side = model.impact(t_before, y_before)
         v_plus = -ct.restitution * v_minus if v_minus > 0 else v_minus
         previous = self.impacts[-1][0] if self.impacts else -np.inf
-        self.impacts.append([t_before, x_c, v_minus, v_plus, side, y_before[:N].copy(), y_before[N:].copy(),
-                             y_plus[N:].copy()])
+        self.impacts.append([t_before, x_c, v_minus, v_plus, side, planar(y_before)[:N].copy(),
+                             planar(y_before)[N:].copy(), planar(y_plus)[N:].copy()])
         if len(self.impacts) > self.max_impacts:
             return ("chatter",
                     f"more than {self.max_impacts} impacts by t = {t_before:.12g} s, the last two "
                     f"{t_before - previous:.3g} s apart, without a sustained contact (its force stays "
                     "negative); try contact.law = 'compliant'", t_before, y_before, None)
-        if t_before - previous < ct.chatter_interval and model.params.galerkin is not None:
+        if t_before - previous < ct.chatter_interval and (model.params.galerkin is not None
+                                                          or model.params.spatial is not None):
+            which = ("the spatial model (beam.model = 'spatial')" if model.params.spatial is not None
+                     else "a variable section (beam.width_ratio, beam.height_ratio)")
             return ("chatter",
                     f"impacts at t = {previous:.12g} s and {t_before:.12g} s are closer than "
                     f"contact.chatter_interval = {ct.chatter_interval:g} s; sustained contact is not "
-                    "implemented for a variable section (beam.width_ratio, beam.height_ratio); try "
-                    "contact.law = 'compliant'", t_before, y_before, None)
+                    f"implemented for {which}; try contact.law = 'compliant'", t_before, y_before, None)
         if t_before - previous < ct.chatter_interval:  # Zeno: ride on the collar if it pushes back
             y_rest = model.impact(t_before, y_before, restitution=0.0)[0]
             point = model.contact_point(t_before, y_before)

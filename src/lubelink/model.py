@@ -69,7 +69,8 @@ class Params(NamedTuple):
     names); ``basis``, ``pad`` and ``motion`` are tables derived from them; ``phase`` is the
     compliant contact of the segment; ``galerkin`` the eigenbasis of a variable section
     (:class:`~lubelink.section.GalerkinTable`; None for a uniform link, whose state is the sine
-    modes themselves).
+    modes themselves); ``spatial`` the table of the spatial model (None for the planar model,
+    whose kernels never read it).
     """
 
     mechanism: tuple
@@ -83,6 +84,7 @@ class Params(NamedTuple):
     motion: MotionTable
     phase: ContactPhase | None
     galerkin: section.GalerkinTable | None = None
+    spatial: spatial_model.SpatialTable | None = None  # the spatial model's table (lubelink.spatial_model)
 
 
 NO_PHASE = ContactPhase(0.0, 0.0, 0.0)

@@ -38,6 +38,7 @@ CHOICES = {
     "film.pad_reference": ("edge", "centre"),
     "film.cavitation": ("none", "half-sommerfeld", "reynolds"),
     "film.reynolds": ("1d", "2d", "short"),
+    "beam.model": ("planar", "spatial"),
     "contact.law": ("none", "restitution", "compliant"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
     "solver.method": ("auto", "exponential", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
@@ -56,6 +57,9 @@ FIELDS = {
     "mechanism.guide_distance": ("m", "a", "distance of the collar's guide from the crank pivot (the pad "
                                            "must stay on the rod over a turn)"),
     "mechanism.gravity": ("m s-2", "g", "gravity [g_X, g_Y], fixed frame; [0, -9.81]: vertical plane"),
+    "mechanism.crank_tilt": ("rad", "tau", "spatial model: tilt of the crank axis about the slider line (0: planar)"),
+    "mechanism.slider_offset": ("m", "z_P", "spatial model: offset of the slider line normal to the planar "
+                                            "mechanism's plane (0: planar)"),
     "beam.youngs_modulus": ("Pa", "E", "Young's modulus"),
     "beam.density": ("kg m-3", "rho", "mass density"),
     "beam.width": ("m", "B", "section width, also the pad width"),
@@ -64,6 +68,7 @@ FIELDS = {
     "beam.damping_ratio": ("1", "zeta", "modal viscous damping ratio of every mode"),
     "beam.width_ratio": ("1", "", "linear taper: width at x = L over width at x = 0 (1: uniform)"),
     "beam.height_ratio": ("1", "", "linear taper: height at x = L over height at x = 0 (1: uniform)"),
+    "beam.model": ("", "", "planar: u2 only (paper Eq. 18); spatial: u1, u2, u3 (docs/spatial.md)"),
     "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
     "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
     "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),
@@ -128,6 +133,13 @@ class Mechanism:
         Gravitational acceleration in the fixed mechanism frame ``(X, Y)``
         [m/s^2]; ``(0, -9.81)`` for a vertical mechanism plane with the
         slider line horizontal. Default: none, as in the paper.
+    crank_tilt : float
+        Spatial model only (``beam.model = "spatial"``): tilt of the crank axis about the
+        slider line [rad] (``tau``), the spatial slider-crank RSSP of docs/spatial.md; 0: the
+        planar mechanism.
+    slider_offset : float
+        Spatial model only: offset of the slider line along the planar mechanism's normal
+        ``Z`` [m] (``z_P``); 0: the planar mechanism.
     """
 
     crank_length: float = 0.07
@@ -135,6 +147,8 @@ class Mechanism:
     crank_speed: float = 10.0 * math.pi
     guide_distance: float = 0.4
     gravity: tuple = (0.0, 0.0)
+    crank_tilt: float = 0.0
+    slider_offset: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -159,6 +173,9 @@ class Beam:
     width_ratio, height_ratio : float
         Linear taper: width and height at ``x = L`` over their values ``width``, ``height`` at
         ``x = 0`` [-] (1: uniform link; docs/section.md). The film's pad width stays ``width``.
+    model : str
+        ``"planar"``: in-plane bending ``u2`` only (docs/model.md); ``"spatial"``: axial
+        ``u1`` and bending ``u2``, ``u3`` under the spatial slider-crank (docs/spatial.md).
     """
 
     youngs_modulus: float = 207e9
@@ -169,6 +186,7 @@ class Beam:
     damping_ratio: float = 0.0
     width_ratio: float = 1.0
     height_ratio: float = 1.0
+    model: str = "planar"
 
     @property
     def area(self) -> float:

@@ -45,6 +45,9 @@ VARIABLES = {
     "q_dot": Variable(("time", "mode"), "m s-1", "modal velocity"),
     "u2": Variable(("time", "x"), "m", "transverse deflection"),
     "u2_mid": Variable(("time",), "m", "midpoint deflection"),
+    "u1": Variable(("time", "x"), "m", "axial displacement (spatial model)"),
+    "u3": Variable(("time", "x"), "m", "out-of-plane deflection (spatial model)"),
+    "u3_mid": Variable(("time",), "m", "midpoint out-of-plane deflection (spatial model)"),
     "x_star": Variable(("time",), "m", "collar position along the link"),
     "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
     "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
@@ -165,7 +168,8 @@ def collect(result, variables=None) -> Results:
     L = cfg.mechanism.rod_length
     N = model.modes
     t = np.ascontiguousarray(result.t)
-    y = np.ascontiguousarray(result.y)
+    y_state = np.asarray(result.y)
+    y = np.ascontiguousarray(model.planar_state(y_state))  # the in-plane block of the spatial model
     q, q_dot = np.ascontiguousarray(y[:, :N]), np.ascontiguousarray(y[:, N:])
     x = np.linspace(0.0, L, cfg.output.x_points)
     kin = model.motion(t)
@@ -183,6 +187,11 @@ def collect(result, variables=None) -> Results:
         data["u2"] = _entry("u2", beam.deflection(q, x, L))
     if "u2_mid" in want:
         data["u2_mid"] = _entry("u2_mid", beam.deflection(q, np.array([0.5 * L]), L)[:, 0])
+    if model.params.spatial is not None:
+        u1, _, u3 = model.deflections(y_state, np.r_[x, 0.5 * L])
+        for name, value in (("u1", u1[:, :-1]), ("u3", u3[:, :-1]), ("u3_mid", u3[:, -1])):
+            if name in want:
+                data[name] = _entry(name, value)
     coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
     fm = cfg.film
     if (fm.enabled or cfg.contact.law != "none") and "film_min" in want:

@@ -79,7 +79,7 @@ def domain_exit(model, y):
     limits = np.array([getattr(s, key) for _, key in DOMAIN])
     if y.shape[0] == 0 or not np.any(np.isfinite(limits)):
         return None
-    q = y[:, :model.modes]
+    q = model.planar_state(y)[:, :model.modes]
     L = model.config.mechanism.rod_length
     beta = np.arange(1, model.modes + 1) * np.pi / L
     # |u2| <= sum |q_n| and |u2'| <= sum beta_n |q_n|: only the states these bounds do not clear are sampled
@@ -161,7 +161,8 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     -------
     Run
         ``y`` holds the sine-mode states ``[q, q_dot]`` (also for a variable section, which is
-        integrated in its eigen-coordinates, :mod:`lubelink.section`). ``status`` is
+        integrated in its eigen-coordinates, :mod:`lubelink.section`); for ``beam.model =
+        "spatial"`` ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (:mod:`lubelink.spatial_model`). ``status`` is
         ``"complete"``, or ``"film_breakdown"``, ``"chatter"``, ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
         samples computed so far. ``impacts`` holds one list
         ``[t, x_c, v_minus, v_plus, side, q, q_dot_before, q_dot_after]`` per impact (compliant
@@ -178,11 +179,11 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     resolution = event_resolution(model)
     out_method = method_name(config)
     method = integrate.method(out_method)
-    options = {"omega": model.omega_n, "zeta": config.beam.damping_ratio}
+    options = {"omega": model.state_frequencies, "zeta": config.beam.damping_ratio}
     if model.compiled and out_method in integrate.COMPILED_METHODS:
         _compile_on_two_cores(model, motion, method)
     t = 0.0
-    y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(2 * model.modes)
+    y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(model.initial_state().size)
     ts, ys, sides, vs, points = [t_eval[:1]], [y[None, :]], [np.zeros(1)], [np.zeros(1)], [np.zeros(1)]
     out = Run(model=model, t=None, y=None, method=out_method)
     logic = ContactLogic(model)

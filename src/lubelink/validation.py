@@ -76,6 +76,8 @@ RULES = {
         "guide_distance": _num(0, 1000, lo_open=True),
         "gravity": (lambda v: isinstance(v, tuple) and len(v) == 2 and all(_num(-1e3, 1e3)[0](c) for c in v),
                     "a pair [g_X, g_Y] of numbers in [-1000, 1000] m/s^2"),
+        "crank_tilt": _num(-1.2, 1.2),
+        "slider_offset": _num(-1000, 1000),
     },
     "beam": {
         "youngs_modulus": _num(1e6, 1e13),
@@ -86,6 +88,7 @@ RULES = {
         "damping_ratio": _num(0, 1, hi_open=True),
         "width_ratio": _num(0.01, 100),
         "height_ratio": _num(0.01, 100),
+        "model": _choice(CHOICES["beam.model"]),
     },
     "film": {
         "model": _choice(CHOICES["film.model"]),
@@ -187,9 +190,20 @@ def validate(config: Config) -> Config:
 
     m, b, fm, ct, s, o = (config.mechanism, config.beam, config.film, config.contact,
                           config.solver, config.output)
+    spatial = b.model == "spatial"
+    if spatial:
+        problems += _spatial_problems(config)
+    elif m.crank_tilt != 0.0 or m.slider_offset != 0.0:
+        problems.append(f"mechanism.crank_tilt = {m.crank_tilt}, mechanism.slider_offset = {m.slider_offset}: "
+                        "a mechanism out of its plane needs beam.model = 'spatial' (the planar model is "
+                        "planar); set both to 0 or beam.model = 'spatial'")
     if m.crank_length >= m.rod_length:
         problems.append(f"mechanism.crank_length = {m.crank_length}: must be shorter than "
                         f"mechanism.rod_length = {m.rod_length}, or the crank cannot turn")
+    elif spatial:
+        from .spatial_motion import travel_problems
+
+        problems += travel_problems(m, fm.pad_length, fm.pad_reference)
     else:
         from .kinematics import collar_travel
 
@@ -230,3 +244,19 @@ def validate(config: Config) -> Config:
     if problems:
         raise ConfigError(problems)
     return config
+
+
+def _spatial_problems(config):
+    """What ``beam.model = "spatial"`` does not support yet, one message each (docs/spatial.md, "Limitations")."""
+    b = config.beam
+    why = "is not supported with beam.model = 'spatial' (docs/spatial.md, Limitations); "
+    out = []
+    if not b.uniform:
+        out.append(f"beam.width_ratio = {b.width_ratio}, beam.height_ratio = {b.height_ratio}: a variable section "
+                   f"{why}set both to 1 or beam.model = 'planar'")
+    if config.collar.mass != 0.0:
+        out.append(f"collar.mass = {config.collar.mass}: the collar's joint reaction {why}set it to 0")
+    if config.model.equations != "corrected":
+        out.append(f"model.equations = {_fmt(config.model.equations)}: the paper's printed forms {why}"
+                   "use 'corrected'")
+    return out

@@ -2,8 +2,9 @@
 
 The first run in a new environment compiles the kernels it needs, which takes tens of seconds;
 they are cached on disk (:mod:`lubelink._jit`) and every configuration shares them (the
-parameter structure has the same types whatever the configuration), so this is paid once per
-installation. :func:`compile_all` pays it up front: before a test session, on each worker of a
+parameter structure has the same types whatever the planar configuration), so this is paid once per
+installation (the spatial model's parameters have a type of their own: its kernels and methods
+are compiled once more). :func:`compile_all` pays it up front: before a test session, on each worker of a
 cluster, or in a container image.
 """
 
@@ -42,4 +43,10 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential"), pro
     if progress:
         progress("compiling the results")
     to_dataset(result)
+    if progress:
+        progress("compiling the spatial model (beam.model = 'spatial')")
+    for method in ("exponential", "DOP853"):  # its parameters have a type of their own: the methods again
+        spatial = run(resolve("spatial-slider-crank", {"beam.modes": 2, "solver.method": method, "solver.t_end": 2e-3,
+                                                       "solver.output_step": 1e-3}))
+    to_dataset(spatial)
     return time.perf_counter() - start

@@ -80,6 +80,11 @@ class PeriodMap:
     def __init__(self, config, motion=None, period=None, periods=1, jacobian="auto", samples=64):
         from ..assembly import build_model
 
+        if config.beam.model == "spatial":
+            from ..validation import ConfigError
+
+            raise ConfigError(["beam.model = 'spatial': periodic orbits and continuation are not available for "
+                               "the spatial model yet (docs/spatial.md, Limitations); use beam.model = 'planar'"])
         if jacobian not in JACOBIANS:
             raise ValueError(f"jacobian = {jacobian!r}: must be one of {', '.join(JACOBIANS)}")
         if motion is None and period is None:
