@@ -173,21 +173,27 @@ def uniform(g):
 
 
 @jitable
-def physical(g, y):
-    """The sine-mode state ``[q, q_dot]`` of the integrator's state ``y`` (``y`` itself for a uniform link)."""
-    if g is None:
-        return y
-    N = g.phi.shape[0]
+def _transform(M, y):
+    """``[M y[:N], M y[N:]]``: a change of modal basis applied to a state ``[q, q_dot]``."""
+    N = M.shape[0]
     out = np.zeros(2 * N)
     for n in range(N):
         a = 0.0
         b = 0.0
         for k in range(N):
-            a += g.phi[n, k] * y[k]
-            b += g.phi[n, k] * y[N + k]
+            a += M[n, k] * y[k]
+            b += M[n, k] * y[N + k]
         out[n] = a
         out[N + n] = b
     return out
+
+
+@jitable
+def physical(g, y):
+    """The sine-mode state ``[q, q_dot]`` of the integrator's state ``y`` (``y`` itself for a uniform link)."""
+    if g is None:
+        return y
+    return _transform(g.phi, y)
 
 
 @jitable
@@ -195,17 +201,7 @@ def state(g, yq):
     """The integrator's state ``[eta, eta_dot]`` of the sine-mode state ``yq`` (inverse of :func:`physical`)."""
     if g is None:
         return yq
-    N = g.phi.shape[0]
-    out = np.zeros(2 * N)
-    for k in range(N):
-        a = 0.0
-        b = 0.0
-        for n in range(N):
-            a += g.phi_inv[k, n] * yq[n]
-            b += g.phi_inv[k, n] * yq[N + n]
-        out[k] = a
-        out[N + k] = b
-    return out
+    return _transform(g.phi_inv, yq)
 
 
 @jitable
