@@ -26,6 +26,8 @@ diagonal linear part ``diag(W^2)`` of :func:`frequencies` (the exponential integ
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._jit import jitable
@@ -113,6 +115,92 @@ def deflections(y, x, rod_length):
 
 
 @jitable
+def _v3(a):
+    """The 3-tuple of floats of a sequence of 3 numbers."""
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+@jitable
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@jitable
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@jitable
+def _lin(ca, a, cb, b):
+    """``ca a + cb b`` of two 3-tuples."""
+    return (ca * a[0] + cb * b[0], ca * a[1] + cb * b[1], ca * a[2] + cb * b[2])
+
+
+@jitable
+def _lin3(ca, a, cb, b, cc, c):
+    """``ca a + cb b + cc c`` of three 3-tuples."""
+    return (ca * a[0] + cb * b[0] + cc * c[0], ca * a[1] + cb * b[1] + cc * c[1], ca * a[2] + cb * b[2] + cc * c[2])
+
+
+@jitable
+def _frame(a, e1, e2, e3):
+    """Components ``(a . e1, a . e2, a . e3)`` of ``a`` in the frame ``e``."""
+    return (_dot(a, e1), _dot(a, e2), _dot(a, e3))
+
+
+@jitable
+def rssp_tuples(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point, slider_dir):
+    """:func:`slider_crank_rssp` with every vector a 3-tuple of floats (the form compiled callers use: no allocation)."""
+    k = _v3(crank_axis)
+    a = _v3(crank_ref)
+    P = _v3(slider_point)
+    d = _v3(slider_dir)
+    b = _cross(k, a)
+    phi = crank_speed * float(t)
+    c, s_ = math.cos(phi), math.sin(phi)
+    O = _lin(crank_length * c, a, crank_length * s_, b)
+    O_t = _lin(-crank_length * crank_speed * s_, a, crank_length * crank_speed * c, b)
+    O_tt = _lin(-crank_speed * crank_speed, O, 0.0, O)
+    p = _lin(1.0, P, -1.0, O)
+    dp = _dot(d, p)
+    disc = dp * dp - _dot(p, p) + rod_length * rod_length  # < 0: the slider is out of reach (s = nan)
+    s = -dp + (math.sqrt(disc) if disc >= 0.0 else math.nan)
+    g = _lin3(1.0, P, s, d, -1.0, O)
+    gd = _dot(g, d)
+    s_t = _dot(g, O_t) / gd
+    g_t = _lin(s_t, d, -1.0, O_t)
+    s_tt = (_dot(g, O_tt) - _dot(g_t, g_t)) / gd
+    g_tt = _lin(s_tt, d, -1.0, O_tt)
+    e1 = _lin(1.0 / rod_length, g, 0.0, g)
+    e1_t = _lin(1.0 / rod_length, g_t, 0.0, g_t)
+    e1_tt = _lin(1.0 / rod_length, g_tt, 0.0, g_tt)
+    ke, ke_t, ke_tt = _dot(k, e1), _dot(k, e1_t), _dot(k, e1_tt)
+    v = _lin(1.0, k, -ke, e1)
+    v_t = _lin(-ke_t, e1, -ke, e1_t)
+    v_tt = _lin3(-ke_tt, e1, -2.0 * ke_t, e1_t, -ke, e1_tt)
+    nu = math.sqrt(_dot(v, v))
+    e3 = _lin(1.0 / nu, v, 0.0, v)
+    nu_t = _dot(e3, v_t)
+    e3_t = _lin(1.0 / nu, v_t, -nu_t / nu, e3)
+    nu_tt = _dot(e3_t, v_t) + _dot(e3, v_tt)
+    e3_tt = _lin3(1.0 / nu, v_tt, -2.0 * nu_t / nu, e3_t, -nu_tt / nu, e3)
+    e2 = _cross(e3, e1)
+    e2_t = _lin(1.0, _cross(e3_t, e1), 1.0, _cross(e3, e1_t))
+    e2_tt = _lin3(1.0, _cross(e3_tt, e1), 2.0, _cross(e3_t, e1_t), 1.0, _cross(e3, e1_tt))
+    # e_i_t = w x e_i:  w1 = e2_t . e3, w2 = e3_t . e1, w3 = e1_t . e2; alpha = their derivatives
+    w = (_dot(e2_t, e3), _dot(e3_t, e1), _dot(e1_t, e2))
+    alpha = (_dot(e2_tt, e3) + _dot(e2_t, e3_t), _dot(e3_tt, e1) + _dot(e3_t, e1_t),
+             _dot(e1_tt, e2) + _dot(e1_t, e2_t))
+    A_O = _frame(O_tt, e1, e2, e3)
+    v_O = _frame(O_t, e1, e2, e3)
+    num = guide - _dot(d, O)
+    den = _dot(d, e1)
+    x_star = num / den
+    V_r = (-_dot(d, O_t) * den - num * _dot(d, e1_t)) / (den * den)
+    return A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3
+
+
+@jitable
 def slider_crank_rssp(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point,
                       slider_dir):
     """Closed-form kinematics of the spatial slider-crank (RSSP) at time ``t`` [s] (docs/spatial.md).
@@ -132,48 +220,10 @@ def slider_crank_rssp(t, crank_length, rod_length, crank_speed, guide, crank_axi
         ``(A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3)``: true acceleration [m/s^2] and
         velocity [m/s] of O, angular velocity [rad/s] and acceleration [rad/s^2], all 3-vectors
         in link-frame components; collar position on the link [m] and its velocity along it
-        [m/s]; then O [m] and the frame vectors in fixed components.
+        [m/s]; then O [m] and the frame vectors in fixed components. The vectors are NumPy
+        arrays; compiled callers use :func:`rssp_tuples`, the same values as 3-tuples.
     """
-    k = crank_axis
-    a = crank_ref
-    b = np.cross(k, a)
-    d = slider_dir
-    phi = crank_speed * t
-    c, s_ = np.cos(phi), np.sin(phi)
-    O = crank_length * (c * a + s_ * b)
-    O_t = crank_length * crank_speed * (-s_ * a + c * b)
-    O_tt = -crank_speed * crank_speed * O
-    p = slider_point - O
-    dp = np.dot(d, p)
-    s = -dp + np.sqrt(dp * dp - np.dot(p, p) + rod_length * rod_length)
-    g = slider_point + s * d - O
-    gd = np.dot(g, d)
-    s_t = np.dot(g, O_t) / gd
-    g_t = s_t * d - O_t
-    s_tt = (np.dot(g, O_tt) - np.dot(g_t, g_t)) / gd
-    g_tt = s_tt * d - O_tt
-    e1, e1_t, e1_tt = g / rod_length, g_t / rod_length, g_tt / rod_length
-    ke, ke_t, ke_tt = np.dot(k, e1), np.dot(k, e1_t), np.dot(k, e1_tt)
-    v = k - ke * e1
-    v_t = -ke_t * e1 - ke * e1_t
-    v_tt = -ke_tt * e1 - 2.0 * ke_t * e1_t - ke * e1_tt
-    nu = np.sqrt(np.dot(v, v))
-    e3 = v / nu
-    nu_t = np.dot(e3, v_t)
-    e3_t = (v_t - nu_t * e3) / nu
-    nu_tt = np.dot(e3_t, v_t) + np.dot(e3, v_tt)
-    e3_tt = (v_tt - 2.0 * nu_t * e3_t - nu_tt * e3) / nu
-    e2 = np.cross(e3, e1)
-    e2_t = np.cross(e3_t, e1) + np.cross(e3, e1_t)
-    e2_tt = np.cross(e3_tt, e1) + 2.0 * np.cross(e3_t, e1_t) + np.cross(e3, e1_tt)
-    # e_i_t = w x e_i:  w1 = e2_t . e3, w2 = e3_t . e1, w3 = e1_t . e2; alpha = their derivatives
-    w = np.array([np.dot(e2_t, e3), np.dot(e3_t, e1), np.dot(e1_t, e2)])
-    alpha = np.array([np.dot(e2_tt, e3) + np.dot(e2_t, e3_t), np.dot(e3_tt, e1) + np.dot(e3_t, e1_t),
-                      np.dot(e1_tt, e2) + np.dot(e1_t, e2_t)])
-    A_O = np.array([np.dot(O_tt, e1), np.dot(O_tt, e2), np.dot(O_tt, e3)])
-    v_O = np.array([np.dot(O_t, e1), np.dot(O_t, e2), np.dot(O_t, e3)])
-    num = guide - np.dot(d, O)
-    den = np.dot(d, e1)
-    x_star = num / den
-    V_r = (-np.dot(d, O_t) * den - num * np.dot(d, e1_t)) / (den * den)
-    return A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3
+    A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3 = rssp_tuples(
+        t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point, slider_dir)
+    return (np.array(A_O), np.array(w), np.array(alpha), np.array(v_O), x_star, V_r, np.array(O), np.array(e1),
+            np.array(e2), np.array(e3))

@@ -47,10 +47,10 @@ class SpatialTable(NamedTuple):
 
 @jitable
 def effective_acceleration(A_O, e1, e2, e3, gravity):
-    """``A_O - g`` in link-frame components [m/s^2]: gravity ``(g_X, g_Y, 0)`` of the fixed frame as an inertial load."""
+    """``A_O - g`` in link-frame components [m/s^2] (a 3-tuple): gravity ``(g_X, g_Y, 0)`` of the fixed frame as an inertial load."""
     gX, gY = gravity
-    return np.array([A_O[0] - (gX * e1[0] + gY * e1[1]), A_O[1] - (gX * e2[0] + gY * e2[1]),
-                     A_O[2] - (gX * e3[0] + gY * e3[1])])
+    return (A_O[0] - (gX * e1[0] + gY * e1[1]), A_O[1] - (gX * e2[0] + gY * e2[1]),
+            A_O[2] - (gX * e3[0] + gY * e3[1]))
 
 
 @jitable

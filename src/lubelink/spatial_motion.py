@@ -23,7 +23,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import jitable
-from .spatial import slider_crank_rssp
+from .spatial import rssp_tuples
 
 __all__ = ["SpatialMotion", "spatial_motion_at", "SpatialSliderCrank", "geometry", "travel_problems"]
 
@@ -62,10 +62,10 @@ def spatial_motion_at(t, m):
     Returns ``(A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3)``: link-frame components of the
     true acceleration [m/s^2] and velocity [m/s] of O, angular velocity [rad/s] and acceleration
     [rad/s^2]; collar position [m] and velocity along the link [m/s]; O [m] and the frame
-    vectors in fixed components.
+    vectors in fixed components. The vectors are 3-tuples of floats (nothing is allocated per call).
     """
-    return slider_crank_rssp(t, m.crank_length, m.rod_length, m.crank_speed, m.guide, m.crank_axis, m.crank_ref,
-                             m.slider_point, m.slider_dir)
+    return rssp_tuples(t, m.crank_length, m.rod_length, m.crank_speed, m.guide, m.crank_axis, m.crank_ref,
+                       m.slider_point, m.slider_dir)
 
 
 class Kinematics(NamedTuple):
@@ -113,7 +113,11 @@ def travel_problems(mechanism, pad_length, pad_reference, samples=721):
     x = []
     with np.errstate(invalid="ignore", divide="ignore"):
         for phi in np.linspace(0.0, 2.0 * np.pi, samples):
-            r = spatial_motion_at(phi, g)
+            try:
+                r = spatial_motion_at(phi, g)
+            except ZeroDivisionError:  # plain floats: the link normal to the slider line or in the guide plane
+                x.append(np.nan)
+                continue
             x.append(r[4] if np.all(np.isfinite(r[0])) and np.isfinite(r[5]) else np.nan)
     x = np.array(x)
     m = mechanism
