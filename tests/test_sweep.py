@@ -644,7 +644,8 @@ def test_sweep_outputs_honour_the_umask(client, tmp_path):
 def test_sigterm_stops_a_sweep_like_ctrl_c(client, tmp_path, monkeypatch, capsys):
     """Item 10: SIGTERM to the sweep client: stored points kept, one line, status 143, resumable."""
     monkeypatch.chdir(tmp_path)
-    Path("s.toml").write_text(SWEEP_TOML)
+    # points slow enough (2 s of motion, tight tolerance) that the sweep is still running when the signal comes
+    Path("s.toml").write_text(SWEEP_TOML.replace('"solver.t_end" = 0.1', '"solver.t_end" = 2.0\n"solver.rtol" = 1e-10'))
     trace = tmp_path / "trace.log"
 
     def terminate_after_the_first_points():
