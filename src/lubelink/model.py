@@ -109,14 +109,6 @@ def phase_side(phase):
 
 
 @jitable
-def phase_of(phase):
-    """``(side, v_minus [m/s], point [m])`` of ``phase`` (zeros for None), as plain numbers."""
-    if phase is None:
-        return 0.0, 0.0, 0.0
-    return phase.side, phase.v_minus, phase.point
-
-
-@jitable
 def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
     """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing)."""
     if phase is None:
