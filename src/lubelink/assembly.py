@@ -43,6 +43,14 @@ def _layout(value):
 _PARAMS_TYPES: dict = {}
 
 
+def _change_basis(M, y):
+    """``[q, q_dot]`` states ``y`` (shape ``(..., 2N)``) with both halves mapped by the ``(N, N)`` matrix ``M``
+    (the vectorised twin of :func:`lubelink.section.physical`)."""
+    y = np.asarray(y, dtype=float)
+    N = M.shape[0]
+    return np.concatenate([y[..., :N] @ M.T, y[..., N:] @ M.T], axis=-1)
+
+
 def params_type(params):
     """``numba.typeof(params)``, remembered by the layout of the parameters.
 
@@ -157,20 +165,12 @@ class Model:
         methods and the results sine-mode states.
         """
         g = self.params.galerkin
-        if g is None:
-            return y
-        y = np.asarray(y, dtype=float)
-        N = self.modes
-        return np.concatenate([y[..., :N] @ g.phi.T, y[..., N:] @ g.phi.T], axis=-1)
+        return y if g is None else _change_basis(g.phi, y)
 
     def to_state(self, yq):
         """The integrator states of sine-mode states ``yq`` (inverse of :meth:`to_physical`)."""
         g = self.params.galerkin
-        if g is None:
-            return yq
-        yq = np.asarray(yq, dtype=float)
-        N = self.modes
-        return np.concatenate([yq[..., :N] @ g.phi_inv.T, yq[..., N:] @ g.phi_inv.T], axis=-1)
+        return yq if g is None else _change_basis(g.phi_inv, yq)
 
     def with_phase(self, phase) -> Params:
         """The parameters of a segment with the compliant contact ``phase`` ``(side, v_minus)`` or None."""
