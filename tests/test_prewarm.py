@@ -41,7 +41,21 @@ def test_the_helper_reports_each_kernel_and_ends():
     p = subprocess.run([sys.executable, "-m", "lubelink._prewarm"], input=to_toml(model.config), text=True,
                        capture_output=True, timeout=600)
     assert p.returncode == 0, p.stderr
-    assert p.stdout.split() == ["rhs", "gap", "results"]
+    assert p.stdout.split() == ["rhs", "gap"]
+
+
+def test_the_driver_compiled_from_types_is_the_one_a_run_calls():
+    """``precompile`` builds the driver's argument types from the signatures alone (no right-hand
+    side compiled): the run must find that overload and compile no other."""
+    from lubelink import integrate
+    from lubelink.integrate import driver
+    from lubelink.simulate import method_name
+
+    model = build_model(resolve("paper-dry", {"solver.t_end": 2e-3, "beam.modes": 2}))
+    driver.precompile(integrate.method(method_name(model.config)), model.params_type)
+    before = set(driver.advance.overloads)
+    run(model.config)
+    assert set(driver.advance.overloads) == before
 
 
 def _script(code):

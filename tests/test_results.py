@@ -237,3 +237,27 @@ def test_both_writers_honour_the_umask(impact_results, tmp_path, umask):
     for path in paths:
         assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask, path
     assert sorted(p.name for p in tmp_path.iterdir()) == ["netcdf4.nc", "xarray.nc"]  # no temporary left
+
+
+def _pressure_peak(_):
+    return float(lubelink.simulate("paper", set={"solver.t_end": 0.05}).pressure.max())
+
+
+def test_pressure_beside_the_other_series_equals_it_computed_in_line(monkeypatch):
+    """The pad pressure, computed in a worker thread beside the other series, is the same array
+    as computed in the calling thread; a forked child (which inherits the parent's executor but
+    not its thread) gets its own thread instead of waiting for ever."""
+    import multiprocessing
+    import os
+
+    from lubelink import results
+
+    threaded = lubelink.simulate("paper", set={"solver.t_end": 0.05})
+    assert results._POOL.get(os.getpid()) is not None or len(os.sched_getaffinity(0)) < 2
+    monkeypatch.setattr(results, "_pool", lambda: None)
+    inline = lubelink.simulate("paper", set={"solver.t_end": 0.05})
+    np.testing.assert_array_equal(threaded.pressure.values, inline.pressure.values)
+    monkeypatch.undo()
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        peaks = pool.map_async(_pressure_peak, [0]).get(timeout=120)
+    assert peaks == [float(threaded.pressure.max())]

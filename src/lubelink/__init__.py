@@ -30,8 +30,24 @@ from .config import ConfigError, SCENARIOS, load as load_config, resolve as reso
 from .params import Beam, Collar, Config, Contact, Film, Mechanism, Output, Solver
 from .results import ResultsFileError, load, save
 from .simulate import simulate
-from .steady import ShootingError, continuation, periodic
-from .sweep import load_sweep, run_sweep
+
+#: Names served by their subpackage on first use (``lubelink run`` does not import them).
+_LAZY = {"ShootingError": "steady", "continuation": "steady", "periodic": "steady",
+         "load_sweep": "sweep", "run_sweep": "sweep"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'lubelink' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
 
 try:
     from importlib.metadata import version as _version

@@ -103,11 +103,15 @@ def jitable(func=None, *, inline=False):
 
 
 def kernel(func):
-    """A compiled entry point, cached on disk under :func:`package_stamp`; ``.py_func`` is the source."""
+    """A compiled entry point, cached on disk under :func:`package_stamp`; ``.py_func`` is the source.
+
+    Kernels release the GIL (they touch no Python object), so two of them can run at once in
+    threads: the results compute the pad pressure beside the other series (:mod:`lubelink.results`).
+    """
     if not ENABLED:
         return _PyKernel(func)
     _install_locators()
-    return numba.njit(cache=True)(func)
+    return numba.njit(cache=True, nogil=True)(func)
 
 
 @lru_cache(maxsize=1)

@@ -46,7 +46,9 @@ def _default_budget():
     return DEFAULT_MAX_WALL_TIME
 
 
-def build_parser():
+def build_parser(extensions=True):
+    """The ``lubelink`` parser; ``extensions=False`` leaves out the subcommands of :data:`EXTENSIONS`
+    (a core command such as ``run`` does not import them)."""
     from . import __version__
 
     parser = argparse.ArgumentParser(
@@ -80,7 +82,7 @@ def build_parser():
                    description="Compile every numerical kernel (or load it from Numba's on-disk cache) and say how "
                                "long it took: a first run in a new installation otherwise does this itself. Useful "
                                "before a test session, on each worker of a cluster, or in a container image.")
-    for module in EXTENSIONS:
+    for module in EXTENSIONS if extensions else ():
         importlib.import_module(module).register_cli(sub, _add_config_args)
     return parser
 
@@ -317,7 +319,9 @@ def main(argv=None):
     """Entry point of the ``lubelink`` command; returns the exit status."""
     from .config import ConfigError
 
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(extensions=command not in COMMANDS)
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()

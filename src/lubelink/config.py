@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import asdict, fields, replace
+from functools import lru_cache
 from pathlib import Path
 
 from .errors import suggest
@@ -94,9 +95,20 @@ def to_dict(config: Config) -> dict:
 
 def to_toml(config: Config) -> str:
     """TOML text that :func:`load` reads back to the same configuration."""
+    try:
+        return _remembered_toml(config)
+    except TypeError:  # a field made unhashable by hand (a list): not remembered
+        return _toml(config)
+
+
+def _toml(config):
     import tomli_w
 
     return tomli_w.dumps(to_dict(config))
+
+
+#: Every result carries its configuration's text, and a study runs a few configurations many times.
+_remembered_toml = lru_cache(maxsize=16)(_toml)
 
 
 def _to_float(value):

@@ -121,6 +121,40 @@ def _select(kernel, compiled):
     return kernel if compiled else kernel.py_func
 
 
+_POOL = {}
+
+
+def _pool():
+    """One worker thread for a compiled kernel beside the main thread, or None on a single core.
+
+    Kept per process: a forked child inherits the executor but not its thread.
+    """
+    pid = os.getpid()
+    if pid not in _POOL:
+        try:
+            cores = len(os.sched_getaffinity(0))
+        except AttributeError:  # pragma: no cover - macOS, Windows
+            cores = os.cpu_count() or 1
+        if cores < 2:
+            _POOL[pid] = None
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+
+            _POOL.clear()
+            _POOL[pid] = ThreadPoolExecutor(max_workers=1, thread_name_prefix="lubelink-results")
+    return _POOL[pid]
+
+
+def _beside(compiled, func, *args):
+    """``func(*args)`` in the worker thread when ``func`` is a compiled kernel (it releases the GIL)
+    and there are two cores, else at once; returns a function giving the value."""
+    pool = _pool() if compiled else None
+    if pool is None:
+        value = func(*args)
+        return lambda: value
+    return pool.submit(func, *args).result
+
+
 class Results(NamedTuple):
     """A run's results before they become an :class:`xarray.Dataset` or a file.
 
@@ -194,8 +228,7 @@ def collect(result, variables=None) -> Results:
                 data[name] = _entry(name, value)
     coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
     fm = cfg.film
-    if (fm.enabled or cfg.contact.law != "none") and "film_min" in want:
-        data["film_min"] = _entry("film_min", _select(thinnest_many, compiled)(x_star, y, p))
+    later = {}
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
         coords["X"] = _entry("X", X)
@@ -204,8 +237,9 @@ def collect(result, variables=None) -> Results:
                                           fm.grid_points if fm.cavitation == "reynolds" else 0)
             pressure = _select(film.pad_pressure_many, compiled)
             for side, name in zip(model.sides, ("pressure", "pressure_lower")):
-                if name in want:
-                    data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables))
+                if name in want:  # the costliest series: computed beside the others
+                    later[name] = _beside(compiled, pressure, X, q, q_dot, x_star, V_r, float(side), p.film, L,
+                                          *tables)
         else:  # the finite-width film: its centre line Z = 0
             pressure = _select(film.centre_pressure_many, compiled)
             for side, name in zip(model.sides, ("pressure", "pressure_lower")):
@@ -215,6 +249,8 @@ def collect(result, variables=None) -> Results:
         if "film_force" in want:
             force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
             data["film_force"] = _entry("film_force", force)
+    if (fm.enabled or cfg.contact.law != "none") and "film_min" in want:
+        data["film_min"] = _entry("film_min", _select(thinnest_many, compiled)(x_star, y, p))
     if fm.roughness > 0.0 and "asperity_force" in want:
         from .film.asperity import asperity_force_many
 
@@ -233,6 +269,8 @@ def collect(result, variables=None) -> Results:
     data["impact_velocity"] = _entry("impact_velocity", [i[2] for i in imp])
     data["impact_velocity_after"] = _entry("impact_velocity_after", [i[3] for i in imp])
     data["impact_side"] = _entry("impact_side", np.array([i[4] for i in imp], dtype=int))
+    for name, value in later.items():
+        data[name] = _entry(name, value())
     data = {name: data[name] for name in VARIABLES if name in data}
     version, libs = versions()
     attrs = {

@@ -120,19 +120,18 @@ def method_name(config):
 
 
 def _compile_on_two_cores(model, motion, method):
-    """On a cold cache, compile the method here while a helper process compiles the right-hand
-    side, the gap and the results (:mod:`lubelink._prewarm`)."""
+    """On a cold cache, compile the integration method, its driver and the results here while a
+    helper process compiles the right-hand side and the gap (:mod:`lubelink._prewarm`)."""
     from . import _prewarm
 
     helper = _prewarm.start(model, motion)
     if helper is None:
         return
-    from .integrate.driver import first_class, signatures
+    from .integrate.driver import precompile
 
     try:
-        sigs = signatures(model.params_type)
-        for kernel, sig in zip((method.init, method.step, method.dense), sigs[2:]):
-            first_class(kernel, sig)
+        precompile(method, model.params_type)
+        _prewarm.compile_results(model)
     except _compile_errors():
         return  # the run itself meets the error and falls back
     _prewarm.wait(helper)

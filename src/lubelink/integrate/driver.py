@@ -38,7 +38,7 @@ from ._layout import (EVENT, F_BOLD, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, 
 from .control import EPS, TOO_SMALL_STEP
 from .events import locate
 
-__all__ = ["Segment", "Method", "integrate", "advance", "first_class", "STEPS_PER_CALL"]
+__all__ = ["Segment", "Method", "integrate", "advance", "first_class", "precompile", "STEPS_PER_CALL"]
 
 #: Steps of the first call into compiled code; later calls take as many as fill :data:`CALL_SECONDS`.
 STEPS_PER_CALL = 64
@@ -251,6 +251,21 @@ def _entry_point(types_head):
     argtypes = types_head + (f8, f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], i8[::1])
     advance.compile(argtypes)
     return advance.overloads[argtypes].entry_point
+
+
+def precompile(method, p_type):
+    """Compile ``method``'s kernels and :func:`advance` for parameters of type ``p_type``.
+
+    Only the types of the right-hand side and of the event are needed, not their machine code: a
+    cold start compiles this half while another process compiles the model's kernels.
+    """
+    from numba import types
+
+    sigs = signatures(p_type)
+    for kernel, sig in zip((method.init, method.step, method.dense), sigs[2:]):
+        first_class(kernel, sig)
+    head = tuple(types.FunctionType(s) for s in (sigs[2], sigs[3], sigs[4], sigs[0], sigs[1]))
+    _entry_point(head + (p_type,))
 
 
 # --- the Python side of a segment -------------------------------------------------------------------
