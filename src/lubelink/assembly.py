@@ -96,7 +96,7 @@ def make_params(config: Config, table: MotionTable | None, cross_section=None) -
     phase = NO_PHASE if config.contact.law in ("compliant", "restitution") else None
     return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
                   kernel_view(config.collar), kernel_view(config.contact), kernel_view(config.model), basis, pad,
-                  table, phase, galerkin)
+                  table, phase, galerkin, rough=float(config.film.roughness) if config.film.roughness > 0.0 else None)
 
 
 # --- the model, from Python ------------------------------------------------------------------------------

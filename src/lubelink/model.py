@@ -70,7 +70,8 @@ class Params(NamedTuple):
     compliant contact of the segment; ``galerkin`` the eigenbasis of a variable section
     (:class:`~lubelink.section.GalerkinTable`; None for a uniform link, whose state is the sine
     modes themselves); ``spatial`` the table of the spatial model (None for the planar model,
-    whose kernels never read it).
+    whose kernels never read it); ``rough`` the roughness with the asperity contact (None for smooth
+    surfaces: the kernels are then compiled without it).
     """
 
     mechanism: tuple
@@ -85,6 +86,7 @@ class Params(NamedTuple):
     phase: ContactPhase | None
     galerkin: section.GalerkinTable | None = None
     spatial: spatial_model.SpatialTable | None = None  # the spatial model's table (lubelink.spatial_model)
+    rough: float | None = None  # film.roughness [m] with the asperity contact, None: smooth (compiled out)
 
 
 NO_PHASE = ContactPhase(0.0, 0.0, 0.0)
@@ -118,6 +120,14 @@ def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
                             phase.v_minus, F)
 
 
+@jitable
+def asperity_term(rough, q, x_star, p, F):
+    """Add the asperity contact's modal forces to ``F`` (``rough`` None: smooth surfaces, compiles to nothing)."""
+    if rough is None:
+        return
+    asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, p.basis.rod_length, F)
+
+
 @jitable(inline=True)
 def rhs_given(t, kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
@@ -134,7 +144,7 @@ def rhs_given(t, kin, y, out, p):
         if p.model.equations == PRINTED_FILM_SIGN:
             F *= -1.0
     if p.film.roughness > 0.0:
-        asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, L, F)
+        asperity_term(p.rough, q, x_star, p, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)

@@ -27,8 +27,7 @@ import numpy as np
 from . import contact, film, spatial
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
-from .film import asperity
-from .model import _compliant_term, phase_side, thinnest_given
+from .model import _compliant_term, asperity_term, phase_side, thinnest_given
 from .spatial_motion import SpatialMotion, SpatialSliderCrank, spatial_motion_at
 
 __all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "SpatialModel", "build_spatial_model"]
@@ -68,7 +67,7 @@ def spatial_rhs_given(kin, y, out, p):
     if p.film.model != film.NO_FILM:
         film.modal_film_force(q2, q2_t, x_star, V_r, p.film, p.beam.width, p.pad, L, F2)
     if p.film.roughness > 0.0:
-        asperity.modal_asperity_force(q2, x_star, p.film, p.beam.width, p.pad, L, F2)
+        asperity_term(p.rough, q2, x_star, p, F2)
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         _compliant_term(p.phase, q2, q2_t, x_star, V_r, p, F2)
     A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
