@@ -23,6 +23,7 @@ the one :func:`spatial_motion_at` serves both and the run is compiled.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import NamedTuple
@@ -31,7 +32,7 @@ import numpy as np
 
 from ._jit import jitable
 from .kinematics import cubic_piece, knot_interval
-from .spatial import _cross, rssp_tuples
+from .spatial import _cross, _dot, rssp_tuples
 
 __all__ = ["SpatialMotion", "spatial_motion_at", "SpatialSliderCrank", "geometry", "travel_problems",
            "SpatialPrescribedMotion", "SampledSpatialMotion", "sampled_spatial_motion", "CHANNELS"]
@@ -202,29 +203,33 @@ def _pad_problem(x_min, x_max, pad_length, pad_reference, rod_length):
 
 # ----------------------------------------------------------------------------------- a motion of the user's
 def _vector(value, what):
-    """``value`` as a 3-tuple of finite floats, or ValueError naming ``what``."""
+    """``value`` as a 3-tuple of finite floats, or ValueError naming ``what`` (the fast path: plain floats)."""
     try:
-        a = np.asarray(value, dtype=float)
+        if np.ndim(value) != 1:
+            raise ValueError
+        x, y, z = value
+        v = (float(x), float(y), float(z))
     except (TypeError, ValueError):
-        raise ValueError(f"{what}: must be 3 numbers, got {type(value).__name__}") from None
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"{what}: must be 3 finite numbers (shape (3,)), got shape {a.shape}"
-                         + ("" if a.shape != (3,) else f" with non-finite values {a.tolist()}"))
-    return (float(a[0]), float(a[1]), float(a[2]))
+        raise ValueError(f"{what}: must be 3 finite numbers (shape (3,)), got shape {np.shape(value)}") from None
+    if not (math.isfinite(v[0]) and math.isfinite(v[1]) and math.isfinite(v[2])):
+        raise ValueError(f"{what}: must be 3 finite numbers, got {list(v)}")
+    return v
 
 
 def _scalar(value, what):
     try:
-        v = float(np.asarray(value, dtype=float).reshape(()))
+        v = float(value) if np.ndim(value) == 0 else None
     except (TypeError, ValueError):
-        raise ValueError(f"{what}: must be one number, got {np.shape(value) or type(value).__name__}") from None
-    if not np.isfinite(v):
+        v = None
+    if v is None:
+        raise ValueError(f"{what}: must be one number, got shape {np.shape(value)}")
+    if not math.isfinite(v):
         raise ValueError(f"{what}: must be finite, got {v}")
     return v
 
 
 def _check_frame(e1, e2, what):
-    """ValueError unless ``e1``, ``e2`` are orthonormal to 1e-6."""
+    """ValueError unless ``e1``, ``e2`` (3-vectors, or rows of them) are orthonormal to 1e-6."""
     e1, e2 = np.asarray(e1, dtype=float), np.asarray(e2, dtype=float)
     n1, n2, c = np.linalg.norm(e1, axis=-1), np.linalg.norm(e2, axis=-1), np.sum(e1 * e2, axis=-1)
     bad = np.abs(n1 - 1.0) + np.abs(n2 - 1.0) + np.abs(c)
@@ -232,6 +237,11 @@ def _check_frame(e1, e2, what):
         k = int(np.argmax(bad))
         raise ValueError(f"{what}: e1 and e2 must be orthonormal (to 1e-6); got |e1| = {np.ravel(n1)[k]:.9g}, "
                          f"|e2| = {np.ravel(n2)[k]:.9g}, e1 . e2 = {np.ravel(c)[k]:.3g}")
+
+
+def _orthonormal(e1, e2):
+    """Whether the 3-tuples ``e1``, ``e2`` are orthonormal to 1e-6 (plain floats: per call of a motion)."""
+    return (abs(_dot(e1, e1) - 1.0) < 2e-6 and abs(_dot(e2, e2) - 1.0) < 2e-6 and abs(_dot(e1, e2)) < 1e-6)
 
 
 _X, _Y = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)
@@ -293,7 +303,7 @@ class SpatialPrescribedMotion:
         vec = {name: _vector(self._get(name, t), f"{where}: {name}") for name in ("A_O", "omega", "alpha")}
         e1 = _X if self.e1 is None else _vector(self._get("e1", t), f"{where}: e1")
         e2 = _Y if self.e2 is None else _vector(self._get("e2", t), f"{where}: e2")
-        if self.e1 is not None or self.e2 is not None:
+        if (self.e1 is not None or self.e2 is not None) and not _orthonormal(e1, e2):
             _check_frame(e1, e2, where)
         return (vec["A_O"], vec["omega"], vec["alpha"], _NAN3, _scalar(self._get("x_star", t), f"{where}: x_star"),
                 _scalar(self._get("V_r", t), f"{where}: V_r"), _NAN3, e1, e2, _cross(e1, e2))
