@@ -209,13 +209,13 @@ SPATIAL_SWEEP = {"base": "spatial-slider-crank", "set": {"solver.t_end": 0.02, "
 
 
 def test_a_spatial_sweep_stores_the_out_of_plane_twins():
-    """With spatial points, peak_u2_mid brings peak_u3_mid and peak_u1, the series u2_mid u3_mid; a planar
+    """With spatial points, peak_u2_mid brings peak_u3_mid and peak_axial, the series u2_mid u3_mid; a planar
     sweep stores what it stored before; a sweep over beam.model counts as spatial."""
     sp = read_sweep(SPATIAL_SWEEP)
-    assert sp.quantities[:3] == ("peak_u2_mid", "peak_u3_mid", "peak_u1")
+    assert sp.quantities[:3] == ("peak_u2_mid", "peak_u3_mid", "peak_axial")
     asked = read_sweep({**SPATIAL_SWEEP, "store": {"quantities": ["min_film", "peak_u2_mid"],
                                                    "time_series": ["u2_mid", "u2", "x_star"]}})
-    assert asked.quantities == ("min_film", "peak_u2_mid", "peak_u3_mid", "peak_u1")
+    assert asked.quantities == ("min_film", "peak_u2_mid", "peak_u3_mid", "peak_axial")
     assert asked.time_series == ("u2_mid", "u3_mid", "u2", "u3", "x_star")
     assert read_sweep(tomllib.loads(asked.to_toml())).hash == asked.hash  # the stored definition reads back alike
     planar = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]}))
@@ -234,12 +234,12 @@ def test_a_spatial_point_summarises_u3_and_u1():
     one = lubelink.simulate(config)
     assert record["status"] == "complete" and record["peak_u2_mid"] == float(np.abs(one.u2_mid).max())
     assert record["peak_u3_mid"] == float(np.abs(one.u3_mid).max()) > 1e-5  # the tilted crank's u3
-    assert record["peak_u1"] == float(np.abs(one.u1).max()) > 0.0
+    assert record["peak_axial"] == float(np.abs(one.u1).max()) > 0.0
     np.testing.assert_array_equal(series["u3_mid"], one.u3_mid.values)
     np.testing.assert_array_equal(series["u1"], one.u1.values)
     planar = summarise(lubelink.simulate("paper-dry", set={"solver.t_end": 0.01, "output.x_points": 5}),
-                       ("peak_u2_mid", "peak_u3_mid", "peak_u1"))
-    assert planar["peak_u2_mid"] > 0.0 and math.isnan(planar["peak_u3_mid"]) and math.isnan(planar["peak_u1"])
+                       ("peak_u2_mid", "peak_u3_mid", "peak_axial"))
+    assert planar["peak_u2_mid"] > 0.0 and math.isnan(planar["peak_u3_mid"]) and math.isnan(planar["peak_axial"])
 
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("sweep*.toml")), ids=lambda p: p.name)
@@ -320,7 +320,7 @@ def test_a_spatial_sweep_over_the_crank_tilt_on_the_cluster(client, tmp_path):
     ds = run_sweep({**SPATIAL_SWEEP, "store": {"time_series": ["u2_mid"]}}, tmp_path / "spatial.zarr", client=client,
                    progress=False)
     assert (ds.status == "complete").all() and ds.u3_mid.attrs["units"] == "m"
-    assert ds.peak_u3_mid.attrs["units"] == "m" and ds.peak_u1.attrs["units"] == "m"
+    assert ds.peak_u3_mid.attrs["units"] == "m" and ds.peak_axial.attrs["units"] == "m"
     for tilt in (0.0, 0.2):
         one = lubelink.simulate("spatial-slider-crank", set={**SPATIAL_SWEEP["set"], "mechanism.crank_tilt": tilt})
         point = ds.sel({"mechanism.crank_tilt": tilt})
