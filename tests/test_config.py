@@ -167,3 +167,25 @@ def test_every_configuration_gets_a_finite_wall_time_budget(tmp_path):
     path = tmp_path / "c.toml"
     path.write_text("[solver]\nmax_wall_time = 10\n")
     assert load(path).solver.max_wall_time == 10.0
+
+
+@pytest.mark.parametrize("source", ["spatial-slider-crank", "dict", "toml", "config"])
+def test_resolve_validates_once_with_the_overrides_applied(source, tmp_path, monkeypatch):
+    """The base is not validated on its own before the overrides (the spatial model's check of the
+    mechanism costs 721 crank positions): one validation per resolve, of the final configuration."""
+    import lubelink.config as cfgmod
+
+    base = {"scenario": "spatial-slider-crank", "beam": {"modes": 2}}
+    sources = {"spatial-slider-crank": "spatial-slider-crank", "dict": base, "toml": tmp_path / "c.toml",
+               "config": scenario("spatial-slider-crank")}
+    (tmp_path / "c.toml").write_text('scenario = "spatial-slider-crank"\n[beam]\nmodes = 2\n')
+    seen = []
+    real = cfgmod.validate
+    monkeypatch.setattr(cfgmod, "validate", lambda c: seen.append(c) or real(c))
+    config = resolve(sources[source], {"mechanism.crank_tilt": 0.25})
+    assert seen == [config] and config.mechanism.crank_tilt == 0.25
+    seen.clear()
+    with pytest.raises(ConfigError) as info:  # the faults of the source and of the overrides together
+        resolve({**base, "beam": {"modes": 0}} if source == "dict" else sources[source], {"film.viscosity": -1.0})
+    assert len(seen) == 1 and "film.viscosity = -1.0" in str(info.value)
+    assert ("beam.modes = 0" in str(info.value)) == (source == "dict")

@@ -195,7 +195,7 @@ def test_impacts_on_the_u2_faces_match_the_planar_model(law):
         assert later.attrs["status"] == "chatter" and "spatial model" in later.attrs["message"]
 
 
-def test_a_user_motion_is_refused_by_the_spatial_model():
+def test_a_planar_motion_is_refused_by_the_spatial_model():
     from lubelink.kinematics import SliderCrank
 
     cfg = resolve("spatial-slider-crank")

@@ -13,6 +13,7 @@ import subprocess
 import sys
 import threading
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -203,6 +204,44 @@ def test_journal_commits_points_and_a_torn_line_is_ignored(tmp_path):
     again.close()
 
 
+SPATIAL_SWEEP = {"base": "spatial-slider-crank", "set": {"solver.t_end": 0.02, "output.x_points": 5, "beam.modes": 2},
+                 "vary": {"mechanism.crank_tilt": [0.0, 0.1, 0.2]}}
+
+
+def test_a_spatial_sweep_stores_the_out_of_plane_twins():
+    """With spatial points, peak_u2_mid brings peak_u3_mid and peak_axial, the series u2_mid u3_mid; a planar
+    sweep stores what it stored before; a sweep over beam.model counts as spatial."""
+    sp = read_sweep(SPATIAL_SWEEP)
+    assert sp.quantities[:3] == ("peak_u2_mid", "peak_u3_mid", "peak_axial")
+    asked = read_sweep({**SPATIAL_SWEEP, "store": {"quantities": ["min_film", "peak_u2_mid"],
+                                                   "time_series": ["u2_mid", "u2", "x_star"]}})
+    assert asked.quantities == ("min_film", "peak_u2_mid", "peak_u3_mid", "peak_axial")
+    assert asked.time_series == ("u2_mid", "u3_mid", "u2", "u3", "x_star")
+    assert read_sweep(tomllib.loads(asked.to_toml())).hash == asked.hash  # the stored definition reads back alike
+    planar = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]}))
+    assert "peak_u3_mid" not in planar.quantities and planar.quantities == lubelink.sweep.DEFAULT_QUANTITIES
+    both = read_sweep({"base": "paper", "set": dict(TINY), "vary": {"beam.model": ["planar", "spatial"]}})
+    assert "peak_u3_mid" in both.quantities
+    with pytest.raises(ConfigError, match="store.time_series: u3 needs mechanism.rod_length fixed"):
+        read_sweep({**SPATIAL_SWEEP, "vary": {"mechanism.rod_length": [1.0, 1.1]}, "store": {"time_series": ["u3"]}})
+
+
+def test_a_spatial_point_summarises_u3_and_u1():
+    sp = read_sweep({**SPATIAL_SWEEP, "store": {"time_series": ["u2_mid", "u1"]}})
+    config = sp.point_config(2)
+    opts = _TaskOptions(sp.quantities, sp.time_series, sp.max_impacts, 21, 1e-3, "s")
+    record, series = _compute_point(2, config, opts)
+    one = lubelink.simulate(config)
+    assert record["status"] == "complete" and record["peak_u2_mid"] == float(np.abs(one.u2_mid).max())
+    assert record["peak_u3_mid"] == float(np.abs(one.u3_mid).max()) > 1e-5  # the tilted crank's u3
+    assert record["peak_axial"] == float(np.abs(one.u1).max()) > 0.0
+    np.testing.assert_array_equal(series["u3_mid"], one.u3_mid.values)
+    np.testing.assert_array_equal(series["u1"], one.u1.values)
+    planar = summarise(lubelink.simulate("paper-dry", set={"solver.t_end": 0.01, "output.x_points": 5}),
+                       ("peak_u2_mid", "peak_u3_mid", "peak_axial"))
+    assert planar["peak_u2_mid"] > 0.0 and math.isnan(planar["peak_u3_mid"]) and math.isnan(planar["peak_axial"])
+
+
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("sweep*.toml")), ids=lambda p: p.name)
 def test_examples_are_valid_sweeps(path):
     sp = read_sweep(path)
@@ -274,6 +313,20 @@ def test_failing_points_are_recorded_and_the_others_complete(reference):
     broken = fast.sel({"mechanism.crank_speed": 40.0, "film.clearance": 1e-3})
     assert broken.end_time.item() < 0.1 and np.isnan(broken.u2_mid.values[-1])  # partial series kept
     assert np.isfinite(broken.u2_mid.values[0]) and np.isfinite(broken.peak_u2_mid.item())
+
+
+@on_cluster
+def test_a_spatial_sweep_over_the_crank_tilt_on_the_cluster(client, tmp_path):
+    ds = run_sweep({**SPATIAL_SWEEP, "store": {"time_series": ["u2_mid"]}}, tmp_path / "spatial.zarr", client=client,
+                   progress=False)
+    assert (ds.status == "complete").all() and ds.u3_mid.attrs["units"] == "m"
+    assert ds.peak_u3_mid.attrs["units"] == "m" and ds.peak_axial.attrs["units"] == "m"
+    for tilt in (0.0, 0.2):
+        one = lubelink.simulate("spatial-slider-crank", set={**SPATIAL_SWEEP["set"], "mechanism.crank_tilt": tilt})
+        point = ds.sel({"mechanism.crank_tilt": tilt})
+        assert point.peak_u3_mid.item() == float(np.abs(one.u3_mid).max())
+        np.testing.assert_array_equal(point.u3_mid.values, one.u3_mid.values)
+    assert np.ptp(ds.peak_u3_mid.values) > 0.01 * ds.peak_u3_mid.values.max()  # the tilt changes u3
 
 
 @on_cluster

@@ -310,7 +310,8 @@ def _backend(config, motion):
     if not _jit.ENABLED:
         why = "Numba is not installed" if not _jit._WHY.startswith("LUBELINK") else "LUBELINK_DISABLE_JIT is set"
     elif motion.table() is None:
-        why = "the motion is given as Python callables (use lubelink.kinematics.sampled_motion to compile it)"
+        hint = getattr(motion, "compile_hint", "lubelink.kinematics.sampled_motion")
+        why = f"the motion is given as Python callables (use {hint} to compile it)"
     elif config.solver.method in ("RK45", "Radau", "BDF", "LSODA"):  # (the loop in Python, the physics compiled)
         return True, f"solver.method = {config.solver.method!r} steps in Python (SciPy) on the compiled right-hand side"
     if not why:
@@ -344,6 +345,13 @@ def build_model(config: Config, motion=None, section=None) -> Model:
 
         return build_spatial_model(config, motion, section)
     motion = SliderCrank(config.mechanism) if motion is None else motion
+    from .spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank
+
+    if isinstance(motion, (SpatialPrescribedMotion, SpatialSliderCrank)):
+        from .validation import ConfigError
+
+        raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' only; "
+                           "set beam.model = 'spatial', or pass a planar motion (lubelink.kinematics)"])
     compiled, note = _backend(config, motion)
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
         raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "

@@ -153,9 +153,14 @@ def scenario(name: str) -> Config:
     if name not in SCENARIOS:
         raise ConfigError([f"scenario = {_fmt(name)}: must be one of "
                            + ", ".join(repr(s) for s in SCENARIOS) + suggest(name, SCENARIOS)])
+    return validate(_scenario(name))
+
+
+def _scenario(name: str) -> Config:
+    """The built-in scenario ``name``, not validated (a base that overrides follow: validated with them)."""
     data = {k: v for k, v in SCENARIOS[name].items() if k != "description"}
     data["solver"] = {"max_wall_time": DEFAULT_MAX_WALL_TIME, **data.get("solver", {})}
-    return validate(_merge(Config(), data, f"scenario {name}", []))
+    return _merge(Config(), data, f"scenario {name}", [])
 
 
 def from_dict(data: dict, origin: str = "configuration") -> Config:
@@ -164,6 +169,12 @@ def from_dict(data: dict, origin: str = "configuration") -> Config:
     A top-level ``scenario`` key names the base that the sections override;
     the default base is ``paper``.
     """
+    return _validated(*_from_dict(data, origin))
+
+
+def _from_dict(data: dict, origin: str):
+    """``(config, problems)`` of :func:`from_dict` before validation: the base scenario is validated only
+    once, with the sections over it (the spatial model's check of the mechanism turns the crank 721 times)."""
     data = dict(data)
     problems = []
     base_name = data.pop("scenario", "paper")
@@ -172,8 +183,8 @@ def from_dict(data: dict, origin: str = "configuration") -> Config:
                         + ", ".join(repr(s) for s in SCENARIOS) + suggest(str(base_name), SCENARIOS))
         base = Config()
     else:
-        base = scenario(base_name)
-    return _validated(_merge(base, data, origin, problems), problems)
+        base = _scenario(base_name)
+    return _merge(base, data, origin, problems), problems
 
 
 def _validated(config: Config, problems: list) -> Config:
@@ -279,16 +290,16 @@ def parse_override(text: str) -> tuple[str, object]:
     return name, value
 
 
-def _apply_overrides(config: Config, overrides: dict) -> Config:
+def _apply_overrides(config: Config, overrides: dict, problems: list) -> Config:
+    """``config`` with ``overrides`` merged (not validated); their faults appended to ``problems``."""
     nested: dict[str, dict] = {}
-    problems = []
     for name, value in overrides.items():
         section, _, key = str(name).partition(".")
         if not section or not key:
             problems.append(f"override {_fmt(name)}: must be section.key, e.g. beam.modes")
             continue
         nested.setdefault(section, {})[key] = value
-    return _validated(_merge(config, nested, "override", problems), problems)
+    return _merge(config, nested, "override", problems)
 
 
 def resolve(source="paper", overrides=None) -> Config:
@@ -301,19 +312,24 @@ def resolve(source="paper", overrides=None) -> Config:
         dict, or a configuration.
     overrides : dict, optional
         ``{"section.key": value}`` applied last.
+
+    The configuration is validated once, with the overrides applied (the faults of the source and
+    of the overrides are reported together).
     """
+    problems = []
     if isinstance(source, Config):
-        config = validate(source)
+        config = source
     elif isinstance(source, dict):
-        config = from_dict(source)
+        config, problems = _from_dict(source, "configuration")
     elif isinstance(source, str) and source in SCENARIOS:
-        config = scenario(source)
+        config = _scenario(source)
     elif isinstance(source, (str, Path)) and (str(source).endswith(".toml") or Path(source).exists()):
-        config = load(source)
+        path = Path(source)
+        config, problems = _from_dict(read_toml(path, "configuration file"), str(path))
     else:
         raise ConfigError([f"source = {_fmt(source)}: not a scenario ("
                            + ", ".join(SCENARIOS) + "), a TOML file, a dict or a Config"
                            + (suggest(source, SCENARIOS) if isinstance(source, str) else "")])
     if overrides:
-        config = _apply_overrides(config, dict(overrides))
-    return config
+        config = _apply_overrides(config, dict(overrides), problems)
+    return _validated(config, problems)

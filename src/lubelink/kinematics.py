@@ -151,19 +151,31 @@ def slider_crank(t, crank_length, rod_length, crank_speed, guide_distance):
 
 
 @jitable
-def piecewise_cubic(t, knots, coef, channel):
-    """Value at ``t`` of channel ``channel`` of a piecewise cubic (``scipy.interpolate.PPoly`` layout).
-
-    Outside the knots the end pieces are extended, as ``PPoly`` does.
-    """
+def knot_interval(t, knots):
+    """``(i, t - knots[i])``: the piece of a piecewise polynomial that holds ``t`` (the end pieces outside)."""
     m = knots.shape[0] - 1
     i = np.searchsorted(knots, t, side="right") - 1
     if i < 0:
         i = 0
     elif i > m - 1:
         i = m - 1
-    dx = t - knots[i]
+    return i, t - knots[i]
+
+
+@jitable
+def cubic_piece(coef, channel, i, dx):
+    """Value of channel ``channel`` of piece ``i`` at ``dx`` past its start (``PPoly`` layout, highest power first)."""
     return ((coef[channel, 0, i] * dx + coef[channel, 1, i]) * dx + coef[channel, 2, i]) * dx + coef[channel, 3, i]
+
+
+@jitable
+def piecewise_cubic(t, knots, coef, channel):
+    """Value at ``t`` of channel ``channel`` of a piecewise cubic (``scipy.interpolate.PPoly`` layout).
+
+    Outside the knots the end pieces are extended, as ``PPoly`` does.
+    """
+    i, dx = knot_interval(t, knots)
+    return cubic_piece(coef, channel, i, dx)
 
 
 @jitable

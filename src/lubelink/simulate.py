@@ -266,7 +266,9 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
     set : dict, optional
         Overrides ``{"section.key": value}``, e.g. ``{"beam.modes": 5}``.
     motion : object, optional
-        A motion provider (:mod:`lubelink.kinematics`) replacing the slider-crank.
+        A motion provider (:mod:`lubelink.kinematics`) replacing the slider-crank; with
+        ``beam.model = "spatial"`` a spatial one (:mod:`lubelink.spatial_motion`:
+        ``sampled_spatial_motion`` or ``SpatialPrescribedMotion``).
     progress : bool or callable
         ``True`` shows a progress bar on stderr; a callable receives the simulated time.
     section : lubelink.section.Section, optional

@@ -13,8 +13,9 @@ the film and gap use) with :class:`SpatialTable` in ``Params.spatial``.
 Contact on the ``u2`` faces: the compliant force (on ``q2``) and the restitution impacts (the
 jump of ``q2_t``: the mass matrix is diagonal across the directions) as in the planar model; a
 Zeno sequence of impacts stops the run with status ``chatter`` (no sustained contact yet).
-Not supported (refused by the validation): a collar mass, a variable section, the paper's
-printed equations, a user-supplied motion.
+A motion of the user's (:class:`~lubelink.spatial_motion.SpatialPrescribedMotion`, sampled or
+callables) replaces the slider-crank. Not supported (refused by the validation): a collar mass, a
+variable section, the paper's printed equations.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from . import contact, film, spatial
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
 from .model import _compliant_term, asperity_term, phase_side, thinnest_given
-from .spatial_motion import SpatialMotion, SpatialSliderCrank, spatial_motion_at
+from .spatial_motion import SpatialMotion, SpatialSliderCrank, geometry, motion_problems, spatial_motion_at
 
 __all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "SpatialModel", "build_spatial_model"]
 
@@ -144,7 +145,12 @@ class SpatialModel(Model):
     def functions(self):
         if self.compiled:
             return spatial_rhs, spatial_gap
-        return spatial_rhs.py_func, spatial_gap.py_func
+        if self.motion.table() is not None:
+            return spatial_rhs.py_func, spatial_gap.py_func
+        at = self.motion.at  # a motion of callables: the same equations, its kinematics from Python
+
+        return (lambda t, y, out, p: spatial_rhs_given(at(t), y, out, p),
+                lambda t, y, p: spatial_gap_given(at(t), y, p))
 
     def rhs(self, t, y, phase=None):
         out = np.empty(6 * self.modes)
@@ -179,15 +185,18 @@ def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
     """The :class:`SpatialModel` of a validated configuration with ``beam.model = "spatial"``."""
     from .validation import ConfigError
 
-    if motion is not None or section is not None:
-        raise ConfigError([f"beam.model = 'spatial': a user-supplied {'motion' if motion is not None else 'section'} "
-                           "is not supported by the spatial model (it runs the built-in spatial slider-crank of "
-                           "[mechanism] on a uniform link); use beam.model = 'planar'"])
+    if section is not None:
+        raise ConfigError(["beam.model = 'spatial': a user-supplied section is not supported by the spatial model "
+                           "(it runs a uniform link); use beam.model = 'planar'"])
+    provider = SpatialSliderCrank(config.mechanism) if motion is None else motion
+    problems = motion_problems(provider, config)
+    if problems:
+        raise ConfigError(problems)
     b, L = config.beam, config.mechanism.rod_length
-    provider = SpatialSliderCrank(config.mechanism)
     compiled, note = _backend(config, provider)
     W = spatial.frequencies(b.modes, L, b.youngs_modulus, b.density, b.area, b.second_moment,
                             b.height * b.width**3 / 12.0)
-    table = SpatialTable(np.ascontiguousarray(W, dtype=float), provider.table())
+    table = provider.table()  # callables: the slider-crank's table holds the place (compiled code is not run)
+    table = SpatialTable(np.ascontiguousarray(W, dtype=float), geometry(config.mechanism) if table is None else table)
     params = make_params(config, None)._replace(spatial=table)
     return SpatialModel(config, provider, params, compiled, note)

@@ -42,6 +42,8 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
     times, film_min, t = values("impact_time"), values("film_min"), values("time")
     compute = {
         "peak_u2_mid": lambda: peak("u2_mid"),
+        "peak_u3_mid": lambda: peak("u3_mid"),
+        "peak_axial": lambda: peak("u1"),
         "impact_count": lambda: int(ds.attrs.get("impact_count", len(times))),
         "first_impact_time": lambda: float(times[0]) if len(times) else math.nan,
         "peak_pressure": lambda: peak("pressure"),
@@ -101,7 +103,7 @@ def _sample(ds, name, n_time, output_step):
 
 #: The variable each summary quantity is computed from.
 _SOURCES = {"peak_u2_mid": "u2_mid", "peak_pressure": "pressure", "min_film": "film_min",
-            "peak_film_force": "film_force"}
+            "peak_film_force": "film_force", "peak_u3_mid": "u3_mid", "peak_axial": "u1"}
 
 
 def _simulate_point(config, opts):

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..config import SCENARIOS, ConfigError, _name, read_toml
 from ..errors import suggest
-from .schema import DEFAULT_QUANTITIES, QUANTITIES, SERIES, _fmt, _parameters
+from .schema import DEFAULT_QUANTITIES, QUANTITIES, SERIES, _fmt, _parameters, with_spatial_companions
 from .spec import Axis, Sweep
 
 __all__ = ["read_sweep", "MAX_POINTS"]
@@ -211,10 +211,22 @@ def _parse(data, origin, root) -> Sweep:
             problems.extend(f"{origin}: base {base!r} with [set]: {p}" for p in exc.problems)
     if problems:
         raise ConfigError([p if p.startswith(f"{origin}: ") else f"{origin}: {p}" for p in problems])
+    if _spatial(base_config, axes, point_names, point_rows):
+        quantities, series = with_spatial_companions(quantities), with_spatial_companions(series)
     return Sweep(base=base, base_config=base_config, fixed=fixed, axes=tuple(axes),
                  point_names=point_names, point_rows=point_rows, quantities=tuple(quantities),
                  time_series=tuple(series), max_impacts=max_impacts, invalid_points=policy,
                  origin=origin)
+
+
+def _spatial(base_config, axes, point_names, point_rows) -> bool:
+    """Whether some point of the sweep runs ``beam.model = "spatial"`` (the base's, or a swept value)."""
+    models = {base_config.beam.model}
+    models.update(v for a in axes if a.name == "beam.model" for v in a.values)
+    if "beam.model" in point_names:
+        j = point_names.index("beam.model")
+        models.update(row[j] for row in point_rows)
+    return "spatial" in models
 
 
 def _base_file_problem(path):

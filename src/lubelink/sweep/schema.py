@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-__all__ = ["SWEEP_FORMAT", "QUANTITIES", "DEFAULT_QUANTITIES", "ALWAYS", "SERIES", "SweepError"]
+__all__ = ["SWEEP_FORMAT", "QUANTITIES", "DEFAULT_QUANTITIES", "ALWAYS", "SERIES", "SPATIAL_COMPANIONS",
+           "SweepError", "with_spatial_companions"]
 
 #: Version of the store layout; :func:`load_sweep` and resuming refuse other major versions.
 SWEEP_FORMAT = "1.0"
@@ -28,9 +29,15 @@ QUANTITIES = {
     "end_time": ("s", "simulated time reached (solver.t_end unless the run ended early)", "f"),
     "nfev": ("1", "right-hand-side evaluations", "i"),
     "impact_times": ("s", "times of the first store.max_impacts impacts (NaN: fewer impacts)", "impacts"),
+    "peak_u3_mid": ("m", "peak absolute out-of-plane midpoint deflection, max |u3_mid| (NaN: planar model)", "f"),
+    "peak_axial": ("m", "peak absolute axial displacement over the link, max |u1| (NaN: planar model)", "f"),
 }
-#: Stored when ``[store] quantities`` is not given.
-DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times")
+#: What a sweep with spatial points (``beam.model = "spatial"``) stores beside a quantity or time
+#: series it stores: the out-of-plane (and axial) twins of the in-plane ones.
+SPATIAL_COMPANIONS = {"peak_u2_mid": ("peak_u3_mid", "peak_axial"), "u2_mid": ("u3_mid",), "u2": ("u3",)}
+#: Stored when ``[store] quantities`` is not given (and, with spatial points, their companions).
+DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times"
+                           and not any(q in c for c in SPATIAL_COMPANIONS.values()))
 #: Always stored for every point, whatever ``quantities`` says.
 ALWAYS = {
     "status": ("1", "outcome: complete, film_breakdown, chatter, solver_failure, timeout, out_of_domain, "
@@ -50,7 +57,19 @@ SERIES = {
     "q_dot": ("mode", ("beam.modes",)),
     "u2": ("x", ("mechanism.rod_length", "output.x_points")),
     "pressure": ("X", ("film.pad_length", "output.pad_points")),
+    "u3_mid": (None, ()),
+    "u3": ("x", ("mechanism.rod_length", "output.x_points")),
+    "u1": ("x", ("mechanism.rod_length", "output.x_points")),
 }
+
+
+def with_spatial_companions(names) -> tuple:
+    """``names`` with each one's :data:`SPATIAL_COMPANIONS` after it (those not already there)."""
+    out = []
+    for name in names:
+        out += [name] if name not in out else []
+        out += [c for c in SPATIAL_COMPANIONS.get(name, ()) if c not in names and c not in out]
+    return tuple(out)
 
 
 class SweepError(RuntimeError):
