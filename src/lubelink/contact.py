@@ -399,20 +399,18 @@ class ContactLogic:
                     f"more than {self.max_impacts} impacts by t = {t_before:.12g} s, the last two "
                     f"{t_before - previous:.3g} s apart, without a sustained contact (its force stays "
                     "negative); try contact.law = 'compliant'", t_before, y_before, None)
-        if t_before - previous < ct.chatter_interval and (model.params.galerkin is not None
-                                                          or model.params.spatial is not None):
-            which = ("the spatial model (beam.model = 'spatial')" if model.params.spatial is not None
-                     else "a variable section (beam.width_ratio, beam.height_ratio)")
+        if t_before - previous < ct.chatter_interval and model.params.galerkin is not None:
             return ("chatter",
                     f"impacts at t = {previous:.12g} s and {t_before:.12g} s are closer than "
                     f"contact.chatter_interval = {ct.chatter_interval:g} s; sustained contact is not "
-                    f"implemented for {which}; try contact.law = 'compliant'", t_before, y_before, None)
+                    "implemented for a variable section (beam.width_ratio, beam.height_ratio); try "
+                    "contact.law = 'compliant'", t_before, y_before, None)
         if t_before - previous < ct.chatter_interval:  # Zeno: ride on the collar if it pushes back
             y_rest = model.impact(t_before, y_before, restitution=0.0)[0]
             point = model.contact_point(t_before, y_before)
             if model.sustained_force(t_before, y_rest, side, point)[0] > 0.0:
                 self.impacts[-1][3] = min(v_minus, 0.0)
-                self.impacts[-1][7] = y_rest[N:].copy()
+                self.impacts[-1][7] = planar(y_rest)[N:].copy()
                 self.contacts.append([t_before, np.nan, side])
                 return None, "", t_before, y_rest, (side, 0.0, point)
         return None, "", t_before, y_plus, None

@@ -23,9 +23,10 @@ from typing import NamedTuple
 import numpy as np
 
 from ._jit import jitable
-from .spatial import rssp_tuples
+from .spatial import _dot, _frame, rssp_tuples
 
-__all__ = ["SpatialMotion", "spatial_motion_at", "SpatialSliderCrank", "geometry", "travel_problems"]
+__all__ = ["SpatialMotion", "spatial_motion_at", "collar_acceleration_at", "SpatialSliderCrank", "geometry",
+           "travel_problems"]
 
 
 class SpatialMotion(NamedTuple):
@@ -66,6 +67,23 @@ def spatial_motion_at(t, m):
     """
     return rssp_tuples(t, m.crank_length, m.rod_length, m.crank_speed, m.guide, m.crank_axis, m.crank_ref,
                        m.slider_point, m.slider_dir)
+
+
+@jitable
+def collar_acceleration_at(t, m):
+    """``A_r = dV_r/dt`` [m/s^2], the collar's acceleration along the link, of the table ``m`` at ``t`` [s].
+
+    The collar is where the link crosses the guide plane, ``x_star = num / den`` with
+    ``num = guide - d . O``, ``den = d . e1``; with ``e1_t = w x e1`` and
+    ``e1_tt = alpha x e1 + w x (w x e1)`` (link-frame components ``(0, w3, -w2)`` and
+    ``(-(w2^2 + w3^2), alpha3 + w1 w2, w1 w3 - alpha2)``) and ``O_tt = A_O``, the second
+    derivative is ``A_r = (num_tt - x_star den_tt - 2 V_r den_t) / den``.
+    """
+    A_O, w, al, v_O, x_star, V_r, O, e1, e2, e3 = spatial_motion_at(t, m)
+    d = _frame(m.slider_dir, e1, e2, e3)  # the guide plane's normal in link-frame components
+    den_t = d[1] * w[2] - d[2] * w[1]
+    den_tt = (-d[0] * (w[1] * w[1] + w[2] * w[2]) + d[1] * (al[2] + w[0] * w[1]) + d[2] * (w[0] * w[2] - al[1]))
+    return (-_dot(d, A_O) - x_star * den_tt - 2.0 * V_r * den_t) / d[0]
 
 
 class Kinematics(NamedTuple):
