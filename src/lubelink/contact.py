@@ -351,6 +351,8 @@ class ContactLogic:
     ``(side, v_minus)`` (None outside contact: a compliant contact, or a sustained contact of
     the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``).
     ``contacts`` lists ``[t_start, t_end, side]`` of every contact phase (``t_end`` NaN while it lasts).
+    A side is +1 or -1, or for the spatial model a code of :func:`lubelink.spatial_model.face_of`
+    (+-2: the faces normal to ``e3``); the recorded modal states are the in-plane block.
 
     Restitution law: two impacts closer than ``contact.chatter_interval`` are a Zeno sequence;
     the impact is then made plastic (``e = 0``, the gap's rate set to zero) and, if the contact
@@ -370,8 +372,9 @@ class ContactLogic:
         N = model.modes
         planar = model.planar_state  # the records hold the in-plane modes (the spatial model's q2 block)
         if ct.law == "none":
+            where = " on the u3 faces" if abs(model.approach(t_after, y_after)[2]) == 2 else ""  # spatial: +-2
             return ("film_breakdown",
-                    f"the film thinned to contact.min_film = {ct.min_film} m at t = {t_after:.9g} s and "
+                    f"the film thinned to contact.min_film = {ct.min_film} m{where} at t = {t_after:.9g} s and "
                     "contact.law = 'none'; set contact.law = 'restitution' or 'compliant', or a larger "
                     "film.clearance", t_after, y_after, None)
         if ct.law == "compliant":
