@@ -6,13 +6,17 @@ the spatial slider-crank (:mod:`lubelink.spatial_motion`). The equations are
 :func:`lubelink.spatial.accelerations`; the collar's film (and the asperity contact) act on the
 ``u2`` faces exactly as in the planar model, the same functions called on the ``q2`` block
 (:func:`lubelink.film.modal_film_force`, :func:`lubelink.model.thinnest_given`,
-:func:`lubelink.contact.gap_rate`); the ``u3`` faces carry no film (docs/spatial.md). The
-parameters are the planar :class:`~lubelink.model.Params` (its basis: the ``N`` in-plane modes
-the film and gap use) with :class:`SpatialTable` in ``Params.spatial``.
+:func:`lubelink.contact.gap_rate`), and with ``film.faces = "u2+u3"`` a second pair on the ``u3``
+faces, the same functions on the ``q3`` block (pad width ``beam.height``); the gap is the thinner
+pair's (docs/spatial.md, "Film pairs"). The parameters are the planar
+:class:`~lubelink.model.Params` (its basis: the ``N`` in-plane modes) with :class:`SpatialTable`
+in ``Params.spatial``.
 
-Contact on the ``u2`` faces: the compliant force (on ``q2``) and the restitution impacts (the
-jump of ``q2_t``: the mass matrix is diagonal across the directions) as in the planar model; a
-Zeno sequence of impacts stops the run with status ``chatter`` (no sustained contact yet).
+Contact on the pair whose film broke (side codes of :func:`face_of`: +-1 the ``u2`` faces, +-2
+the ``u3`` faces): the compliant force on its block, the restitution impacts (the jump of its
+block's velocities: the mass matrix is diagonal across the directions), and after a Zeno
+sequence the sustained contact (:func:`lubelink.model.sustained_on` on its block), all as in
+the planar model.
 Not supported (refused by the validation): a collar mass, a variable section, the paper's
 printed equations, a user-supplied motion.
 """
