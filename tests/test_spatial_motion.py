@@ -235,3 +235,27 @@ def test_simulate_validates_the_spatial_mechanism_once(monkeypatch):
     monkeypatch.setattr(spatial_motion, "collar_travel", lambda m, samples=721: calls.append(m) or cached(m, samples))
     lubelink.simulate("spatial-slider-crank", set={"solver.t_end": 0.01})
     assert [m.crank_tilt for m in calls] == [0.2]
+
+
+def test_collar_acceleration_of_a_sampled_motion_converges_to_the_slider_crank():
+    """The sustained contact reads the collar's acceleration: for samples, the derivative of the
+    ``V_r`` spline. Against the slider-crank's closed form (checked against differences of ``V_r``
+    in tests/test_spatial_model.py) between the knots, at order >= 2 as the step halves."""
+    from lubelink.spatial_motion import collar_acceleration_at
+
+    cfg = resolve("spatial-slider-crank", SHORT)
+    exact = SpatialSliderCrank(cfg.mechanism).table()
+    t = np.linspace(0.001, 0.019, 37) + 1.234e-4  # off the knots
+    a_ref = np.array([collar_acceleration_at(ti, exact) for ti in t])
+    errors = []
+    for h in (2e-3, 1e-3, 5e-4):
+        table = rssp_samples(cfg.mechanism, h, 0.02).table()
+        errors.append(np.abs(np.array([collar_acceleration_at(ti, table) for ti in t]) - a_ref).max())
+    assert errors[-1] < 1e-3 * np.abs(a_ref).max()
+    assert np.log2(errors[0] / errors[1]) > 1.8 and np.log2(errors[1] / errors[2]) > 1.8
+
+
+def test_restitution_with_a_motion_of_callables_is_refused():
+    cfg = resolve("spatial-slider-crank", {**SHORT, "contact.law": "restitution"})
+    with pytest.raises(lubelink.ConfigError, match="contact.law = 'restitution' with a spatial motion of callables"):
+        lubelink.simulate(cfg, motion=rssp_callables(cfg.mechanism))

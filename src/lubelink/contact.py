@@ -351,6 +351,8 @@ class ContactLogic:
     ``(side, v_minus)`` (None outside contact: a compliant contact, or a sustained contact of
     the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``).
     ``contacts`` lists ``[t_start, t_end, side]`` of every contact phase (``t_end`` NaN while it lasts).
+    A side is +1 or -1, or for the spatial model a code of :func:`lubelink.spatial_model.face_of`
+    (+-2: the faces normal to ``e3``); the recorded modal states are the in-plane block.
 
     Restitution law: two impacts closer than ``contact.chatter_interval`` are a Zeno sequence;
     the impact is then made plastic (``e = 0``, the gap's rate set to zero) and, if the contact
@@ -370,8 +372,9 @@ class ContactLogic:
         N = model.modes
         planar = model.planar_state  # the records hold the in-plane modes (the spatial model's q2 block)
         if ct.law == "none":
+            where = " on the u3 faces" if abs(model.approach(t_after, y_after)[2]) == 2 else ""  # spatial: +-2
             return ("film_breakdown",
-                    f"the film thinned to contact.min_film = {ct.min_film} m at t = {t_after:.9g} s and "
+                    f"the film thinned to contact.min_film = {ct.min_film} m{where} at t = {t_after:.9g} s and "
                     "contact.law = 'none'; set contact.law = 'restitution' or 'compliant', or a larger "
                     "film.clearance", t_after, y_after, None)
         if ct.law == "compliant":
@@ -399,20 +402,18 @@ class ContactLogic:
                     f"more than {self.max_impacts} impacts by t = {t_before:.12g} s, the last two "
                     f"{t_before - previous:.3g} s apart, without a sustained contact (its force stays "
                     "negative); try contact.law = 'compliant'", t_before, y_before, None)
-        if t_before - previous < ct.chatter_interval and (model.params.galerkin is not None
-                                                          or model.params.spatial is not None):
-            which = ("the spatial model (beam.model = 'spatial')" if model.params.spatial is not None
-                     else "a variable section (beam.width_ratio, beam.height_ratio)")
+        if t_before - previous < ct.chatter_interval and model.params.galerkin is not None:
             return ("chatter",
                     f"impacts at t = {previous:.12g} s and {t_before:.12g} s are closer than "
                     f"contact.chatter_interval = {ct.chatter_interval:g} s; sustained contact is not "
-                    f"implemented for {which}; try contact.law = 'compliant'", t_before, y_before, None)
+                    "implemented for a variable section (beam.width_ratio, beam.height_ratio); try "
+                    "contact.law = 'compliant'", t_before, y_before, None)
         if t_before - previous < ct.chatter_interval:  # Zeno: ride on the collar if it pushes back
             y_rest = model.impact(t_before, y_before, restitution=0.0)[0]
             point = model.contact_point(t_before, y_before)
             if model.sustained_force(t_before, y_rest, side, point)[0] > 0.0:
                 self.impacts[-1][3] = min(v_minus, 0.0)
-                self.impacts[-1][7] = y_rest[N:].copy()
+                self.impacts[-1][7] = planar(y_rest)[N:].copy()
                 self.contacts.append([t_before, np.nan, side])
                 return None, "", t_before, y_rest, (side, 0.0, point)
         return None, "", t_before, y_plus, None

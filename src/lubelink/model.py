@@ -121,11 +121,12 @@ def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
 
 
 @jitable
-def asperity_term(rough, q, x_star, p, F):
-    """Add the asperity contact's modal forces to ``F`` (``rough`` None: smooth surfaces, compiles to nothing)."""
+def asperity_term(rough, q, x_star, p, width, F):
+    """Add the asperity contact's modal forces on a pad of ``width`` [m] to ``F`` (``rough`` None: smooth
+    surfaces, compiles to nothing)."""
     if rough is None:
         return
-    asperity.modal_asperity_force(q, x_star, p.film, p.beam.width, p.pad, p.basis.rod_length, F)
+    asperity.modal_asperity_force(q, x_star, p.film, width, p.pad, p.basis.rod_length, F)
 
 
 @jitable(inline=True)
@@ -144,7 +145,7 @@ def rhs_given(t, kin, y, out, p):
         if p.model.equations == PRINTED_FILM_SIGN:
             F *= -1.0
     if p.film.roughness > 0.0:
-        asperity_term(p.rough, q, x_star, p, F)
+        asperity_term(p.rough, q, x_star, p, p.beam.width, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)
@@ -193,9 +194,23 @@ def sustained_given(t, kin, A_r, y, out, p, side, point):
     rate is the highest modal frequency of the basis.
     """
     N = p.basis.modes
+    if A_r != A_r:
+        A_r = collar_acceleration(t, p.motion)
+    return sustained_on(y[:N], y[N:], out[N:], kin[3], kin[4], A_r, p, side, point, p.basis.omega_n[N - 1])
+
+
+@jitable
+def sustained_on(q, q_dot, acc, x_star, V_r, A_r, p, side, point, rate):
+    """Subtract the sustained contact's modal force from the accelerations ``acc`` [m/s^2]; return its force [N].
+
+    :func:`lubelink.contact.constraint_force` of the film ``H/2 - side u`` of the sine modes
+    ``q`` [m], ``q_dot`` [m/s] at ``point`` (:class:`ContactPhase`), the collar at ``x_star`` [m]
+    sliding at ``V_r`` [m/s] with acceleration ``A_r`` [m/s^2], Baumgarte rate ``rate`` [1/s]:
+    the planar model's block (:func:`sustained_given`), or a block of the spatial state.
+    """
+    N = q.shape[0]
     L = p.basis.rod_length
-    q, q_dot = y[:N], y[N:]
-    x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
+    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     at_edge = point < 0.0
     x_c = point
     if point == PAD_START:
@@ -206,13 +221,11 @@ def sustained_given(t, kin, A_r, y, out, p, side, point):
     for n in range(N):
         u += q[n] * np.sin((n + 1) * np.pi / L * x_c)
     xi = 0.5 * p.film.clearance - side * u
-    if A_r != A_r:
-        A_r = collar_acceleration(t, p.motion)
     m = p.basis.modal_mass
-    lam = contact.constraint_force(q, q_dot, out[N:], x_c, at_edge, False, side, xi - p.contact.min_film, kin[4],
-                                   A_r, p.basis.omega_n[N - 1], m, L)
+    lam = contact.constraint_force(q, q_dot, acc, x_c, at_edge, False, side, xi - p.contact.min_film, V_r, A_r,
+                                   rate, m, L)
     for n in range(N):
-        out[N + n] -= side * lam * np.sin((n + 1) * np.pi / L * x_c) / m
+        acc[n] -= side * lam * np.sin((n + 1) * np.pi / L * x_c) / m
     return lam
 
 

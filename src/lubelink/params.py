@@ -38,6 +38,7 @@ CHOICES = {
     "film.pad_reference": ("edge", "centre"),
     "film.cavitation": ("none", "half-sommerfeld", "reynolds"),
     "film.reynolds": ("1d", "2d", "short"),
+    "film.faces": ("u2", "u2+u3"),
     "beam.model": ("planar", "spatial"),
     "contact.law": ("none", "restitution", "compliant"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
@@ -89,6 +90,8 @@ FIELDS = {
     "film.summit_product": ("1", "eta beta sigma", "asperity density x summit radius x roughness"),
     "film.summit_ratio": ("1", "sigma/beta", "roughness over summit radius"),
     "film.contact_modulus": ("Pa", "E'", "composite elastic modulus of the asperity contact"),
+    "film.faces": ("", "", "spatial model: the collar's film and contact on the u2 faces only, or also on the u3 "
+                           "faces (a second pair, the film H/2 - u3; docs/spatial.md)"),
     "collar.mass": ("kg", "m_c", "mass of the collar and its guided member (joint reaction)"),
     "contact.law": ("", "", "restitution: paper Eq. 21, compliant: Lankarani-Nikravesh"),
     "contact.restitution": ("1", "e", "coefficient of restitution"),
@@ -264,6 +267,12 @@ class Film:
     contact_modulus : float
         Composite elastic modulus ``E'`` of the Greenwood-Tripp pressure [Pa]
         (``1/E' = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2``; two steels: 1.14e11).
+    faces : str
+        Spatial model only (``beam.model = "spatial"``): ``"u2"``, the collar's film (and
+        contact) on the faces normal to ``e2`` only; ``"u2+u3"``, also a second pair on the
+        faces normal to ``e3``: the same collar (pad, clearance, lubricant, sides, cavitation)
+        with the film ``H/2 - u3`` (``H/2 + u3`` on the other side) and the pad width ``h``
+        (``beam.height``), docs/spatial.md.
     """
 
     model: str = "wedge"
@@ -285,6 +294,7 @@ class Film:
     summit_product: float = 0.04
     summit_ratio: float = 1e-3
     contact_modulus: float = 1.14e11
+    faces: str = "u2"
 
     @property
     def enabled(self) -> bool:

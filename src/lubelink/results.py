@@ -51,13 +51,19 @@ VARIABLES = {
     "x_star": Variable(("time",), "m", "collar position along the link"),
     "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
     "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
-    "film_min": Variable(("time",), "m", "thinnest film on the pad"),
+    "film_min": Variable(("time",), "m", "thinnest film on the pad (spatial model: of the u2 faces)"),
     "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
                          "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
     "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
     "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
     "asperity_force": Variable(("time",), "N", "resultant asperity contact force on the link along +j "
                                                 "(Greenwood-Tripp, mixed lubrication)"),
+    "film_min_u3": Variable(("time",), "m", "thinnest film of the pair on the u3 faces (spatial model, film.faces "
+                                          "u2+u3)"),
+    "film_force_u3": Variable(("time",), "N", "resultant film force of the pair on the u3 faces on the link along +e3 "
+                                              "(spatial model, film.faces u2+u3)"),
+    "asperity_force_u3": Variable(("time",), "N", "resultant asperity contact force of the u3 faces along +e3 "
+                                                  "(spatial model, film.faces u2+u3)"),
     "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
     "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
                                               "face (sustained or compliant contact)"),
@@ -68,12 +74,15 @@ VARIABLES = {
                                       "normal approach velocity after impact (negative opening)"),
     "impact_side": Variable(("impact",), "1", "film side of the contact: 1 the film H/2 - u2 (the link's +j side), "
                                               "-1 the film H/2 + u2 (its -j side)"),
+    "impact_face": Variable(("impact",), "1", "face pair of the contact (spatial model, film.faces u2+u3): 2 the u2 "
+                                              "faces, 3 the u3 faces (impact_side then the film H/2 -+ u3)"),
 }
 
 #: Attributes beyond units and long name, by variable: the CF flag attributes of the flag variables.
 VARIABLE_ATTRS = {
     "impact_side": {"flag_values": np.array([1, -1], dtype=np.int64),
                     "flag_meanings": "positive_j_side negative_j_side"},
+    "impact_face": {"flag_values": np.array([2, 3], dtype=np.int64), "flag_meanings": "u2_faces u3_faces"},
 }
 
 #: The CF conventions the results files follow (global attribute ``Conventions``).
@@ -256,19 +265,24 @@ def collect(result, variables=None) -> Results:
 
         data["asperity_force"] = _entry("asperity_force", _select(asperity_force_many, compiled)(
             np.ascontiguousarray(q), x_star, p.film, p.beam.width, p.pad, L))
+    if model.params.spatial is not None and fm.faces == "u2+u3":
+        data.update(_u3_faces(model, want, y_state, x_star, V_r))
     if cfg.contact.law != "none":
         side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
         data["contact_phase"] = _entry("contact_phase", (side != 0).astype(np.int8),
                                        flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="free contact")
         if "contact_force" in want:
-            data["contact_force"] = _entry("contact_force", _contact_force(result, model, t, y, side))
+            data["contact_force"] = _entry("contact_force", _contact_force(result, model, t, y_state, side))
     imp = result.impacts
     coords["impact"] = _entry("impact", np.arange(len(imp)))
     data["impact_time"] = _entry("impact_time", [i[0] for i in imp])
     data["impact_position"] = _entry("impact_position", [i[1] for i in imp])
     data["impact_velocity"] = _entry("impact_velocity", [i[2] for i in imp])
     data["impact_velocity_after"] = _entry("impact_velocity_after", [i[3] for i in imp])
-    data["impact_side"] = _entry("impact_side", np.array([i[4] for i in imp], dtype=int))
+    codes = np.array([i[4] for i in imp], dtype=int)
+    data["impact_side"] = _entry("impact_side", np.sign(codes))  # the spatial model's codes +-2: the u3 faces
+    if model.params.spatial is not None and fm.faces == "u2+u3":
+        data["impact_face"] = _entry("impact_face", 2 + (np.abs(codes) == 2))
     for name, value in later.items():
         data[name] = _entry(name, value())
     data = {name: data[name] for name in VARIABLES if name in data}
@@ -298,6 +312,28 @@ def collect(result, variables=None) -> Results:
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
+
+
+def _u3_faces(model, want, y_state, x_star, V_r):
+    """The variables of the spatial model's film pair on the ``u3`` faces: the planar batched kernels on the ``q3`` block."""
+    from . import film
+    from .film.asperity import asperity_force_many
+    from .model import thinnest_many
+
+    p, N, cfg = model.params, model.modes, model.config
+    L, compiled = cfg.mechanism.rod_length, model.compiled
+    y3 = np.ascontiguousarray(model.block_state(y_state, 2))
+    q3, q3_t = np.ascontiguousarray(y3[:, :N]), np.ascontiguousarray(y3[:, N:])
+    out = {}
+    if (cfg.film.enabled or cfg.contact.law != "none") and "film_min_u3" in want:
+        out["film_min_u3"] = _entry("film_min_u3", _select(thinnest_many, compiled)(x_star, y3, p))
+    if cfg.film.enabled and "film_force_u3" in want:
+        out["film_force_u3"] = _entry("film_force_u3", _select(film.film_force_many, compiled)(
+            q3, q3_t, x_star, V_r, p.film, p.beam.height, p.pad, L))
+    if cfg.film.roughness > 0.0 and "asperity_force_u3" in want:
+        out["asperity_force_u3"] = _entry("asperity_force_u3", _select(asperity_force_many, compiled)(
+            q3, x_star, p.film, p.beam.height, p.pad, L))
+    return out
 
 
 def _contact_force(result, model, t, y, side):

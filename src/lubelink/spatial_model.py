@@ -6,13 +6,17 @@ the spatial slider-crank (:mod:`lubelink.spatial_motion`). The equations are
 :func:`lubelink.spatial.accelerations`; the collar's film (and the asperity contact) act on the
 ``u2`` faces exactly as in the planar model, the same functions called on the ``q2`` block
 (:func:`lubelink.film.modal_film_force`, :func:`lubelink.model.thinnest_given`,
-:func:`lubelink.contact.gap_rate`); the ``u3`` faces carry no film (docs/spatial.md). The
-parameters are the planar :class:`~lubelink.model.Params` (its basis: the ``N`` in-plane modes
-the film and gap use) with :class:`SpatialTable` in ``Params.spatial``.
+:func:`lubelink.contact.gap_rate`), and with ``film.faces = "u2+u3"`` a second pair on the ``u3``
+faces, the same functions on the ``q3`` block (pad width ``beam.height``); the gap is the thinner
+pair's (docs/spatial.md, "Film pairs"). The parameters are the planar
+:class:`~lubelink.model.Params` (its basis: the ``N`` in-plane modes) with :class:`SpatialTable`
+in ``Params.spatial``.
 
-Contact on the ``u2`` faces: the compliant force (on ``q2``) and the restitution impacts (the
-jump of ``q2_t``: the mass matrix is diagonal across the directions) as in the planar model; a
-Zeno sequence of impacts stops the run with status ``chatter`` (no sustained contact yet).
+Contact on the pair whose film broke (side codes of :func:`face_of`: +-1 the ``u2`` faces, +-2
+the ``u3`` faces): the compliant force on its block, the restitution impacts (the jump of its
+block's velocities: the mass matrix is diagonal across the directions), and after a Zeno
+sequence the sustained contact (:func:`lubelink.model.sustained_on` on its block), all as in
+the planar model.
 A motion of the user's (:class:`~lubelink.spatial_motion.SpatialPrescribedMotion`, sampled or
 callables) replaces the slider-crank. Not supported (refused by the validation): a collar mass, a
 variable section, the paper's printed equations.
@@ -28,10 +32,15 @@ import numpy as np
 from . import contact, film, spatial
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
-from .model import _compliant_term, asperity_term, phase_side, thinnest_given
-from .spatial_motion import SpatialMotion, SpatialSliderCrank, geometry, motion_problems, spatial_motion_at
+from .model import ContactPhase, _compliant_term, asperity_term, in_sustained, sustained_on, thinnest_given
+from .params import CHOICES
+from .spatial_motion import (SpatialMotion, SpatialSliderCrank, collar_acceleration_at, geometry, motion_problems,
+                             spatial_motion_at)
 
-__all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "SpatialModel", "build_spatial_model"]
+__all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "face_of", "SpatialModel", "build_spatial_model"]
+
+#: ``film.faces``'s code of the second film pair (on the ``u3`` faces).
+U2_U3 = CHOICES["film.faces"].index("u2+u3")
 
 
 class SpatialTable(NamedTuple):
@@ -54,38 +63,93 @@ def effective_acceleration(A_O, e1, e2, e3, gravity):
 
 
 @jitable
+def face_of(code):
+    """``(block, side)`` of a contact's side code: ``+-1`` the ``u2`` faces (block 1 of the state), ``+-2`` the ``u3`` faces (block 2).
+
+    The side (+1, -1) is that of the planar functions on the block: +1 the film ``H/2 - u``, -1 ``H/2 + u``.
+    """
+    if code > 1.5:
+        return 2, 1.0
+    if code < -1.5:
+        return 2, -1.0
+    return 1, code
+
+
+@jitable
+def _face_loads(q, q_t, x_star, V_r, p, width, F):
+    """Add the film (and asperity) forces of one face pair, the planar functions on its block ``q``, ``q_t``, to ``F`` [N]."""
+    L = p.basis.rod_length
+    if p.film.model != film.NO_FILM:
+        film.modal_film_force(q, q_t, x_star, V_r, p.film, width, p.pad, L, F)
+    if p.film.roughness > 0.0:
+        asperity_term(p.rough, q, x_star, p, width, F)
+
+
+@jitable
+def _compliant_spatial(phase, y, x_star, V_r, p, F):
+    """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing) on its face's block."""
+    if phase is None:
+        return
+    if p.contact.law != contact.COMPLIANT or phase.side == 0.0:
+        return
+    k, side = face_of(phase.side)
+    N = p.basis.modes
+    M = 3 * N
+    _compliant_term(ContactPhase(side, phase.v_minus, phase.point), y[k * N:(k + 1) * N],
+                    y[M + k * N:M + (k + 1) * N], x_star, V_r, p, F[k * N:(k + 1) * N])
+
+
+@jitable
 def spatial_rhs_given(kin, y, out, p):
-    """``dy/dt`` into ``out`` for the rigid motion ``kin`` (the tuple of :func:`spatial_motion_at`)."""
+    """``dy/dt`` into ``out`` for the rigid motion ``kin`` (the tuple of :func:`spatial_motion_at`), without a sustained contact."""
     A_O, w, al = kin[0], kin[1], kin[2]
     x_star, V_r = kin[4], kin[5]
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
-    q2, q2_t = y[N:2 * N], y[M + N:M + 2 * N]
     F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
     F[:] = 0.0
-    F2 = F[N:2 * N]
-    if p.film.model != film.NO_FILM:
-        film.modal_film_force(q2, q2_t, x_star, V_r, p.film, p.beam.width, p.pad, L, F2)
-    if p.film.roughness > 0.0:
-        asperity_term(p.rough, q2, x_star, p, F2)
-    if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
-        _compliant_term(p.phase, q2, q2_t, x_star, V_r, p, F2)
+    _face_loads(y[N:2 * N], y[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
+    if p.film.faces == U2_U3:  # the u3 faces: pad width h
+        _face_loads(y[2 * N:M], y[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
+    _compliant_spatial(p.phase, y, x_star, V_r, p, F)
     A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
     spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
 
 
+@jitable
+def _sustained_spatial(phase, t, kin, y, out, p):
+    """Apply the sustained contact ``phase`` to ``out`` (``dy/dt`` without it) on its face's block; return its force [N].
+
+    :func:`lubelink.model.sustained_on` on the block, the collar acceleration of the spatial
+    motion, the Baumgarte rate the block's highest frequency (None: compiles to nothing).
+    """
+    if phase is None:
+        return 0.0
+    k, side = face_of(phase.side)
+    N = p.basis.modes
+    M = 3 * N
+    A_r = collar_acceleration_at(t, p.spatial.motion)
+    return sustained_on(y[k * N:(k + 1) * N], y[M + k * N:M + (k + 1) * N], out[M + k * N:M + (k + 1) * N], kin[4],
+                        kin[5], A_r, p, side, phase.point, p.spatial.W[(k + 1) * N - 1])
+
+
 @kernel
 def spatial_rhs(t, y, out, p):
-    """``dy/dt`` of the spatial modal equations into ``out`` (``y``, ``out`` shape ``(6 N,)``)."""
-    spatial_rhs_given(spatial_motion_at(t, p.spatial.motion), y, out, p)
+    """``dy/dt`` of the spatial modal equations into ``out`` (``y``, ``out`` shape ``(6 N,)``), a sustained contact included."""
+    kin = spatial_motion_at(t, p.spatial.motion)
+    spatial_rhs_given(kin, y, out, p)
+    if in_sustained(p.phase, p.contact.law):
+        _sustained_spatial(p.phase, t, kin, y, out, p)
 
 
 @jitable
 def spatial_gap_given(kin, y, p):
-    """``(gap, rate, bound)`` of the ``u2`` film: thinnest film minus ``min_film`` [m], its rate and a bound [m/s].
+    """``(gap, rate, bound)``: the thinnest film over the face pairs minus ``min_film`` [m], its rate and a bound [m/s].
 
-    The bound is :func:`lubelink.contact.gap_rate_bound` of the in-plane modes softened by the
+    The films of the ``u2`` faces, and with ``film.faces = "u2+u3"`` those of the ``u3`` faces
+    (the same functions on the ``q3`` block): the gap is the smaller. The bound is the larger of
+    the pairs' :func:`lubelink.contact.gap_rate_bound`, each direction's modes softened by the
     whole spin ``|w|`` (the most any direction's centrifugal term softens them).
     """
     N = p.basis.modes
@@ -96,14 +160,47 @@ def spatial_gap_given(kin, y, p):
     V_r = kin[5]
     xi, x_c, at_edge, side = thinnest_given(kin[4], q2, p)
     spin = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    return (xi - p.contact.min_film, contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L),
-            contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L))
+    rate = contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L)
+    bound = contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L)
+    if p.film.faces == U2_U3:
+        q3, q3_t = y[2 * N:M], y[M + 2 * N:]
+        xi3, x_c3, at_edge3, side3 = thinnest_given(kin[4], q3, p)
+        bound = max(bound, contact.gap_rate_bound(q3, q3_t, p.spatial.W[2 * N:], spin, V_r, L))
+        if xi3 < xi:
+            xi = xi3
+            rate = contact.gap_rate(q3, q3_t, x_c3, at_edge3, side3, V_r, L)
+    return xi - p.contact.min_film, rate, bound
+
+
+@jitable
+def _sustained_event(phase, t, kin, y, p):
+    """The force [N] of the sustained contact ``phase``, the event of its segment (None: compiles to nothing)."""
+    if phase is None:
+        return 0.0
+    out = np.empty(y.shape[0])
+    spatial_rhs_given(kin, y, out, p)
+    return _sustained_spatial(phase, t, kin, y, out, p)
 
 
 @kernel
 def spatial_gap(t, y, p):
-    """The event of the spatial model: :func:`spatial_gap_given` at ``t`` [s]."""
-    return spatial_gap_given(spatial_motion_at(t, p.spatial.motion), y, p)
+    """The event of the spatial model at ``t`` [s]: :func:`spatial_gap_given`, or in a sustained contact
+    ``(force [N], 0, inf)`` (it ends when the force falls to zero)."""
+    kin = spatial_motion_at(t, p.spatial.motion)
+    if in_sustained(p.phase, p.contact.law):
+        return _sustained_event(p.phase, t, kin, y, p), 0.0, np.inf
+    return spatial_gap_given(kin, y, p)
+
+
+@kernel
+def spatial_sustained_many(t, y, side, point, p):
+    """Force [N] of the sustained contact of side code ``side[i]`` (0: none, force 0) at ``point[i]`` at many samples ``t`` ``(T,)``, ``y`` ``(T, 6N)``."""
+    out = np.zeros(t.shape[0])
+    for i in range(t.shape[0]):
+        if side[i] != 0.0:
+            out[i] = _sustained_event(ContactPhase(side[i], 0.0, point[i]), t[i],
+                                      spatial_motion_at(t[i], p.spatial.motion), y[i], p)
+    return out
 
 
 @dataclass(frozen=True)
@@ -121,17 +218,27 @@ class SpatialModel(Model):
     def initial_state(self):
         return np.zeros(6 * self.modes)
 
+    @property
+    def faces(self) -> tuple:
+        """The blocks of the state whose faces the collar guides: ``(1,)`` (``u2``), or ``(1, 2)`` (``u2``, ``u3``)."""
+        return (1, 2) if self.config.film.faces == "u2+u3" else (1,)
+
+    def block_state(self, y, k):
+        """``[q_k, q_k_t]`` of states ``y`` ``(..., 6 N)``: block ``k`` (0 axial, 1 in-plane, 2 out-of-plane)."""
+        y = np.asarray(y, dtype=float)
+        N = self.modes
+        return np.concatenate([y[..., k * N:(k + 1) * N], y[..., (3 + k) * N:(4 + k) * N]], axis=-1)
+
     def planar_state(self, y):
-        """``[q2, q2_t]`` of states ``y`` ``(..., 6 N)``: the in-plane block the film, gap and results read.
+        """``[q2, q2_t]`` of states ``y`` ``(..., 6 N)``: the in-plane block the ``u2`` film and the results read.
 
         An in-plane state ``(..., 2 N)`` is returned as it is (the planar methods this class
         reuses call each other with in-plane states).
         """
         y = np.asarray(y, dtype=float)
-        N = self.modes
-        if y.shape[-1] == 2 * N:
+        if y.shape[-1] == 2 * self.modes:
             return y
-        return np.concatenate([y[..., N:2 * N], y[..., 4 * N:5 * N]], axis=-1)
+        return self.block_state(y, 1)
 
     def deflections(self, y, x):
         """``(u1, u2, u3)`` [m] at ``x`` [m] of states ``y`` ``(..., 6 N)``."""
@@ -154,31 +261,58 @@ class SpatialModel(Model):
 
     def rhs(self, t, y, phase=None):
         out = np.empty(6 * self.modes)
-        self.functions()[0](float(t), np.ascontiguousarray(y, dtype=float), out, self.params)
+        self.functions()[0](float(t), np.ascontiguousarray(y, dtype=float), out, self.with_phase(phase))
         return out
 
     def thinnest_film(self, t, y):
-        return super().thinnest_film(t, self.planar_state(y))
+        """``(xi_min, x_c, at_edge, side)`` over the face pairs; ``side`` the code of :func:`face_of` (+-2: ``u3`` faces)."""
+        best = None
+        for k in self.faces:
+            xi, x_c, edge, side = Model.thinnest_film(self, t, self.block_state(y, k))
+            if best is None or xi < best[0]:
+                best = (xi, x_c, edge, side * k)
+        return best
 
     def approach(self, t, y):
-        return super().approach(t, self.planar_state(y))
+        """``(v, x_c, side)`` at the thinnest film over the face pairs [m/s, m, code of :func:`face_of`]."""
+        _, x_c, edge, code = self.thinnest_film(t, y)
+        k, side = face_of(code)
+        b = self.block_state(y, k)
+        N = self.modes
+        v = side * contact.approach_velocity(b[:N], b[N:], x_c, self.kinematics(t)[4] if edge else 0.0,
+                                             self.config.mechanism.rod_length)
+        return float(v), x_c, code
 
     def impact(self, t, y, restitution=None):
-        """The restitution law on the ``u2`` faces: the jump of ``q2_t`` (:meth:`Model.impact` on the ``q2`` block)."""
-        yp, x_c, v_minus, side = super().impact(t, self.planar_state(y), restitution)
+        """The restitution law at the thinnest film: the jump of the velocities of its face's block (``q2_t`` or
+        ``q3_t``; the modal mass matrix is diagonal across the directions), ``(y_plus, x_c, v_minus, side code)``."""
+        v_minus, x_c, code = self.approach(t, y)
+        k, side = face_of(code)
         N = self.modes
         y_plus = np.array(y, dtype=float)
-        y_plus[4 * N:5 * N] = yp[N:]
-        return y_plus, x_c, v_minus, side
+        e = self.config.contact.restitution if restitution is None else restitution
+        if v_minus > 0.0:
+            v = y_plus[(3 + k) * N:(4 + k) * N]
+            v[:] = side * contact.restitution_jump(side * v, x_c, v_minus, e, self.config.mechanism.rod_length)
+        return y_plus, x_c, v_minus, code
 
     def contact_force(self, t, y, phase):
-        return super().contact_force(t, self.planar_state(y), phase)
+        """The compliant force of ``phase`` ``(side code, v_minus)`` on its face's block: ``(modal force [N], magnitude [N])``."""
+        k, side = face_of(float(phase[0]))
+        return super().contact_force(t, self.block_state(y, k), (side, phase[1]))
 
     def film_loads(self, t, y):
+        """Modal film forces [N] and resultant along +e2 [N] of the ``u2`` faces' films."""
         return super().film_loads(t, self.planar_state(y))
 
     def sustained_force(self, t, y, side, point):
-        raise NotImplementedError("sustained contact is not implemented for the spatial model")
+        """Force [N] of a sustained contact of side code ``side`` at ``point`` at states ``y`` ``(T, 6N)``, times ``t``."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        y = np.ascontiguousarray(np.reshape(y, (t.size, 6 * self.modes)), dtype=float)
+        sides = np.broadcast_to(np.asarray(side, dtype=float), t.shape).copy()
+        points = np.broadcast_to(np.asarray(point, dtype=float), t.shape).copy()
+        f = spatial_sustained_many if self.compiled else spatial_sustained_many.py_func
+        return f(t, y, sides, points, self.params)
 
 
 def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
@@ -190,6 +324,10 @@ def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
                            "(it runs a uniform link); use beam.model = 'planar'"])
     provider = SpatialSliderCrank(config.mechanism) if motion is None else motion
     problems = motion_problems(provider, config)
+    if not problems and provider.table() is None and config.contact.law == "restitution":
+        problems.append("contact.law = 'restitution' with a spatial motion of callables: its sustained contact needs "
+                        "the collar's acceleration, which callables do not give; give the motion as samples "
+                        "(lubelink.spatial_motion.sampled_spatial_motion), or use contact.law = 'compliant' or 'none'")
     if problems:
         raise ConfigError(problems)
     b, L = config.beam, config.mechanism.rod_length

@@ -32,10 +32,10 @@ import numpy as np
 
 from ._jit import jitable
 from .kinematics import cubic_piece, knot_interval
-from .spatial import _cross, _dot, rssp_tuples
+from .spatial import _cross, _dot, _frame, rssp_tuples
 
-__all__ = ["SpatialMotion", "spatial_motion_at", "SpatialSliderCrank", "geometry", "travel_problems",
-           "SpatialPrescribedMotion", "SampledSpatialMotion", "sampled_spatial_motion", "CHANNELS"]
+__all__ = ["SpatialMotion", "spatial_motion_at", "collar_acceleration_at", "SpatialSliderCrank", "geometry",
+           "travel_problems", "SpatialPrescribedMotion", "SampledSpatialMotion", "sampled_spatial_motion", "CHANNELS"]
 
 #: Rows of ``SpatialMotion.coef`` of a sampled motion: the link-frame components of ``A_O``
 #: [m/s^2], ``w`` [rad/s], ``alpha`` [rad/s^2]; ``x_star`` [m], ``V_r`` [m/s]; the fixed-frame
@@ -113,6 +113,34 @@ def sampled_tuples(t, knots, coef):
     nan3 = (np.nan, np.nan, np.nan)
     return (A_O, w, alpha, nan3, cubic_piece(coef, 9, i, dx), cubic_piece(coef, 10, i, dx), nan3, e1, e2,
             _cross(e1, e2))
+
+
+@jitable
+def collar_acceleration_at(t, m):
+    """``A_r = dV_r/dt`` [m/s^2], the collar's acceleration along the link, of the table ``m`` at ``t`` [s].
+
+    The slider-crank: the collar is where the link crosses the guide plane, ``x_star = num / den``
+    with ``num = guide - d . O``, ``den = d . e1``; with ``e1_t = w x e1`` and
+    ``e1_tt = alpha x e1 + w x (w x e1)`` (link-frame components ``(0, w3, -w2)`` and
+    ``(-(w2^2 + w3^2), alpha3 + w1 w2, w1 w3 - alpha2)``) and ``O_tt = A_O``, the second
+    derivative is ``A_r = (num_tt - x_star den_tt - 2 V_r den_t) / den``. A sampled motion: the
+    derivative of the ``V_r`` spline.
+    """
+    return _collar_acceleration(t, m, m.knots, m.coef)
+
+
+@jitable
+def _collar_acceleration(t, m, knots, coef):
+    """:func:`collar_acceleration_at` with the spline tables as arguments (None: the slider-crank, compiled alone)."""
+    if knots is not None:
+        i, dx = knot_interval(t, knots)
+        c = 10  # the row of V_r in CHANNELS
+        return (3.0 * coef[c, 0, i] * dx + 2.0 * coef[c, 1, i]) * dx + coef[c, 2, i]
+    A_O, w, al, v_O, x_star, V_r, O, e1, e2, e3 = spatial_motion_at(t, m)
+    d = _frame(m.slider_dir, e1, e2, e3)  # the guide plane's normal in link-frame components
+    den_t = d[1] * w[2] - d[2] * w[1]
+    den_tt = (-d[0] * (w[1] * w[1] + w[2] * w[2]) + d[1] * (al[2] + w[0] * w[1]) + d[2] * (w[0] * w[2] - al[1]))
+    return (-_dot(d, A_O) - x_star * den_tt - 2.0 * V_r * den_t) / d[0]
 
 
 class Kinematics(NamedTuple):

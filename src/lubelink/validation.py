@@ -110,6 +110,7 @@ RULES = {
         "summit_product": _num(0, 1, lo_open=True),
         "summit_ratio": _num(0, 1, lo_open=True),
         "contact_modulus": _num(0, 1e13, lo_open=True),
+        "faces": _choice(CHOICES["film.faces"]),
     },
     "collar": {"mass": _num(0, 1e6)},
     "contact": {
@@ -197,6 +198,9 @@ def validate(config: Config) -> Config:
         problems.append(f"mechanism.crank_tilt = {m.crank_tilt}, mechanism.slider_offset = {m.slider_offset}: "
                         "a mechanism out of its plane needs beam.model = 'spatial' (the planar model is "
                         "planar); set both to 0 or beam.model = 'spatial'")
+    if not spatial and fm.faces != "u2":
+        problems.append(f"film.faces = {_fmt(fm.faces)}: a film pair on the u3 faces needs beam.model = 'spatial' "
+                        "(the planar model has no u3); use film.faces = 'u2' or beam.model = 'spatial'")
     if m.crank_length >= m.rod_length:
         problems.append(f"mechanism.crank_length = {m.crank_length}: must be shorter than "
                         f"mechanism.rod_length = {m.rod_length}, or the crank cannot turn")
