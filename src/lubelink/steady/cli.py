@@ -143,6 +143,13 @@ def _cmd_periodic(args):
                 ("monodromy", f"{orbit.jacobian}, {orbit.evaluations} period(s) integrated"),
                 ("floquet", f"|multipliers| {_multipliers(orbit.multipliers)}: {stable}"),
                 ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(r['time'][i]):.4f} s")]
+        if "u3_mid" in r:  # the spatial model: the out-of-plane and axial midpoint too
+            u3 = np.abs(r["u3_mid"])
+            j = int(np.argmax(u3))
+            q1 = np.asarray(r["q1"])  # u1(L/2) = sum_n q1_n sin(n pi / 2)
+            u1 = np.max(np.abs(q1 @ np.sin(0.5 * np.pi * np.arange(1, q1.shape[1] + 1))))
+            rows += [("peak |u3_mid|", f"{1e3 * u3[j]:.4f} mm at t = {float(r['time'][j]):.4f} s"),
+                     ("peak |u1_mid|", f"{1e6 * u1:.4f} um (axial)")]
         if "film_min" in r:
             rows.append(("thinnest film", f"{1e3 * float(np.min(r['film_min'])):.4f} mm"))
         rows.append(("impacts", f"{a['impact_count']} in the period"))
