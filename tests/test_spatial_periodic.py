@@ -149,7 +149,8 @@ def test_spatial_orbit_is_periodic_and_attracts_the_transient():
     the transient settles on it: written in the eigenvectors of the monodromy matrix, each component of
     its distance to the orbit shrinks per period by the modulus of its multiplier, which for the bending
     pairs is the damping's ``exp(-zeta W T)`` (the film's wedge force depends on the deflection only and
-    the gyroscopic terms conserve energy: neither damps); periods 6-12, to 1e-3 (measured 1e-5).
+    the gyroscopic terms conserve energy: neither damps); periods 6-12, to 2e-3 (measured: 1e-5 for the
+    out-of-plane pair, 7e-4 for the in-plane pair, which the film's nonlinearity still bends).
     """
     import scipy.linalg
 
@@ -176,7 +177,7 @@ def test_spatial_orbit_is_periodic_and_attracts_the_transient():
     bending = np.argsort(-np.abs(mu))[:4]
     np.testing.assert_allclose(np.abs(mu[bending]), expected, rtol=1e-6)
     for i in bending:
-        np.testing.assert_allclose(np.abs(c[7:, i] / c[6:-1, i]), expected, rtol=1e-3)
+        np.testing.assert_allclose(np.abs(c[7:, i] / c[6:-1, i]), expected, rtol=2e-3)
 
 
 def test_continuation_over_the_slider_offset_from_the_planar_case():

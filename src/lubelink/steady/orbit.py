@@ -186,8 +186,10 @@ def orbit_run(orbit: PeriodicOrbit, output_step=None):
 def orbit_results(orbit: PeriodicOrbit, output_step=None):
     """One period of ``orbit`` as :class:`~lubelink.results.Results`: the usual variables and the multipliers.
 
+    For the spatial model also the variables of :data:`SPATIAL_VARIABLES` (``q1``, ``q3``,
+    ``q1_dot``, ``q3_dot``, ``floquet_direction``) beside its usual ``u1``, ``u3``, ``u3_mid``.
     Attributes added: ``period`` [s], ``residual`` (scaled, of the sampled period), ``residual_q``
-    [m], ``residual_q_dot`` [m/s], ``iterations``, ``stable`` (1/0), ``jacobian``,
+    [m] (every displacement coordinate), ``residual_q_dot`` [m/s], ``iterations``, ``stable`` (1/0), ``jacobian``,
     ``floquet_max_modulus``, ``newton_residuals``, ``map_evaluations``.
     """
     from ..results import Results, collect
@@ -294,7 +296,8 @@ def periodic(source="paper", set=None, *, motion=None, period=None, periods=1, y
     -------
     xarray.Dataset
         One period (``time`` from 0 to ``T``) of the variables of :func:`lubelink.simulate`,
-        plus ``floquet_modulus(multiplier)`` and ``floquet_argument(multiplier)``; attrs
+        plus ``floquet_modulus(multiplier)`` and ``floquet_argument(multiplier)`` (and for the
+        spatial model ``q1``, ``q3``, ``q1_dot``, ``q3_dot`` and ``floquet_direction``); attrs
         ``period`` [s], ``residual`` (scaled ``max |y(T) - y0|``; ``residual_q`` [m] and
         ``residual_q_dot`` [m/s] unscaled), ``iterations``, ``stable`` (1 if every multiplier is
         inside the unit circle, else 0), ``jacobian``.
