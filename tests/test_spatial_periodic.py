@@ -122,7 +122,8 @@ def test_dry_spatial_slider_crank_monodromy_matches_an_independent_one():
     ``w3``, ``alpha3`` (2.2 rad/s, 69 rad/s^2) u1 and u2, with coefficients periodic in time. (``w2``,
     ``alpha2`` vanish for this mechanism: ``k . e1`` is constant, the crank pin moving in the plane normal
     to ``k``.) The whole scaled monodromy matrix of the shooting (central differences of the compiled
-    map) equals the reference to 1e-7, the coupling entries included."""
+    map, DOP853 for one mode) equals the reference to 1e-7 (measured 2.3e-9), the coupling entries
+    included."""
     cfg = resolve("spatial-slider-crank", {**ONE, "film.model": "none"})
     orbit = find_periodic(cfg)
     M = _ltp_monodromy(orbit.config, orbit.period)
@@ -138,8 +139,17 @@ def test_dry_spatial_slider_crank_monodromy_matches_an_independent_one():
     for m_ref in ref[big]:
         assert np.min(np.abs(orbit.multipliers - m_ref)) < 1e-7, (m_ref, orbit.multipliers)
     assert np.all(np.abs(orbit.multipliers[4:]) < 1e-6)
-    # the tilt splits the in-plane and out-of-plane pairs (decoupled and distinct only in planar motion)
-    assert orbit.stable and abs(abs(ref[0]) - abs(ref[2])) < 1e-3
+    # both bending pairs have the damping's modulus exp(-zeta W T) (square section; the gyroscopic terms
+    # conserve energy), their arguments differ (the in-plane pair is softened by omega^2)
+    assert orbit.stable and abs(abs(ref[0]) - abs(ref[2])) < 1e-6 and abs(np.angle(ref[0]) - np.angle(ref[2])) > 1e-4
+    # the exponential method steps over the free axial vibration that an axial difference starts (W1 h ~ 1.6):
+    # the in-plane response to it is off by 1e-5 (scaled), the multipliers still within 1e-7
+    fast = find_periodic(resolve("spatial-slider-crank", {**ONE, "film.model": "none", "solver.method": "exponential"}))
+    off = np.abs(scaled(fast.monodromy) - scaled(M))
+    axial = [0, 3]
+    assert np.max(np.delete(off, axial, axis=1)) < 1e-7 and np.max(off[:, axial]) < 1e-4
+    for m_ref in ref[big]:
+        assert np.min(np.abs(fast.multipliers - m_ref)) < 1e-7
 
 
 def test_spatial_orbit_is_periodic_and_attracts_the_transient():

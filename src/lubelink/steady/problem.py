@@ -19,11 +19,9 @@ The state is the model's whole integration state: ``[q, q_dot]`` (``2 N``) of th
 :mod:`lubelink.spatial_model`); nothing here depends on which. For the spatial model ``"auto"``
 takes the monodromy matrix by finite differences even in a smooth period: the variational
 equations are integrated in Python by an explicit method, whose step the axial modes (16 krad/s
-and up, a fixed-fixed bar) limit, while the map itself runs compiled with the exponential method,
-which treats them exactly (docs/periodic.md, "The spatial model"). The spatial map runs the
-exponential method also for one mode (where ``solver.method = "auto"`` would take DOP853): its
-free axial vibrations, which the differences excite, are exact there, and the multipliers of an
-undamped link come out 30 times closer to the unit circle (6e-7 against 2e-5, one mode, dry).
+and up, a fixed-fixed bar) limit, while the map itself runs compiled (the configuration's
+``solver.method``; docs/periodic.md, "The spatial model", compares the accuracy of the
+differences under the exponential method and under DOP853).
 
 Shooting tightens the solver tolerances to at least ``rtol = 1e-10``, ``atol = 1e-13`` [m, m/s]:
 Newton's method and the finite-difference Jacobians need a map accurate well beyond plotting.
@@ -102,8 +100,6 @@ class PeriodMap:
         s = config.solver
         solver = replace(s, rtol=min(s.rtol, SHOOTING_RTOL), atol=min(s.atol, SHOOTING_ATOL), t_end=float(period),
                          output_step=float(period) / samples)
-        if config.beam.model == "spatial" and s.method == "auto":  # (auto: DOP853 for one mode)
-            solver = replace(solver, method="exponential")
         self.config = config.replace(solver=solver)
         self.user_output_step = s.output_step
         self.period = float(period)
