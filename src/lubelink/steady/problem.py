@@ -42,7 +42,8 @@ __all__ = ["PeriodMap", "Family", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATO
 SHOOTING_RTOL = 1e-10
 SHOOTING_ATOL = 1e-13
 #: How the monodromy matrix is obtained: ``"auto"`` (variational equations when no contact event
-#: occurs in the period, else finite differences; always finite differences for the spatial model), ``"variational"``, ``"finite-difference"``.
+#: occurs in the period, else finite differences; always finite differences for the spatial model),
+#: ``"variational"``, ``"finite-difference"``.
 JACOBIANS = ("auto", "variational", "finite-difference")
 
 
