@@ -133,8 +133,8 @@ def _cmd_periodic(args):
         a = r.attrs
         u = np.abs(r["u2_mid"])
         i = int(np.argmax(u))
-        # the multipliers' accuracy: ~1e-8 for the planar model; for the spatial one the undamped axial modes'
-        # come out within ~5e-6 of the unit circle by differences (docs/periodic.md, "The spatial model")
+        # the multipliers' accuracy: ~1e-8 for the planar model; the spatial model's undamped axial multipliers
+        # come out with moduli within ~5e-6 of 1 by differences (docs/periodic.md, "The spatial model")
         band = 1e-5 if orbit.period_map.spatial else 1e-6
         stable = ("stable" if orbit.stable else
                   f"not asymptotically stable (a multiplier on the unit circle, to {band:.0e})"
