@@ -493,11 +493,6 @@ def test_a_planar_motion_is_refused_by_the_spatial_model():
         build_model(cfg, SliderCrank(cfg.mechanism))
 
 
-def test_periodic_orbits_refuse_the_spatial_model():
-    with pytest.raises(lubelink.ConfigError, match="periodic orbits"):
-        lubelink.periodic("spatial-slider-crank")
-
-
 def test_the_command_line_writes_u1_u3(tmp_path):
     out = tmp_path / "spatial.nc"
     r = subprocess.run([sys.executable, "-m", "lubelink", "run", "--scenario", "spatial-slider-crank", "--set",

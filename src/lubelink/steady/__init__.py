@@ -5,7 +5,9 @@ without damping (and with the paper's wedge-only film, which is volume-preservin
 does, but the periodic response still exists and organises the motion. This package finds it
 directly, by shooting on the period map ``y0 -> y(T)``, says whether it is stable (Floquet
 multipliers), and follows it as a parameter varies (pseudo-arclength continuation), detecting
-folds and Floquet bifurcations. docs/periodic.md is the guide.
+folds and Floquet bifurcations. docs/periodic.md is the guide. The state is the model's whole
+integration state, ``[q, q_dot]`` of the planar model or ``[q1, q2, q3, q1_t, q2_t, q3_t]`` of the
+spatial one (``beam.model = "spatial"``), whose results add the axial and out-of-plane quantities.
 
 ===================  ===========================================================================
 module               job

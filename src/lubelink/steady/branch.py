@@ -18,7 +18,8 @@ from . import floquet
 from .arclength import continue_branch
 from .problem import Family
 
-__all__ = ["find_branch", "branch_results", "continuation", "BRANCH_VARIABLES", "BIFURCATION_CODES"]
+__all__ = ["find_branch", "branch_results", "continuation", "BRANCH_VARIABLES", "SPATIAL_BRANCH_VARIABLES",
+           "BIFURCATION_CODES"]
 
 #: Every variable and coordinate of a branch Dataset (``point``: the orbits along the branch).
 BRANCH_VARIABLES = {
@@ -49,19 +50,33 @@ BRANCH_VARIABLES = {
     "bifurcation_argument": Variable(("bifurcation",), "rad", "argument of the crossing multiplier"),
 }
 
+#: What a branch of the spatial model adds (``beam.model = "spatial"``; ``q0``, ``q_dot0``,
+#: ``peak_q``, ``omega_n`` are the in-plane modes, as in every results Dataset).
+SPATIAL_BRANCH_VARIABLES = {
+    "q1_0": Variable(("point", "mode"), "m", "axial modal coordinate of the periodic state at t = 0"),
+    "q1_dot0": Variable(("point", "mode"), "m s-1", "axial modal velocity of the periodic state at t = 0"),
+    "q3_0": Variable(("point", "mode"), "m", "out-of-plane modal coordinate of the periodic state at t = 0"),
+    "q3_dot0": Variable(("point", "mode"), "m s-1", "out-of-plane modal velocity of the periodic state at t = 0"),
+    "peak_u1_mid": Variable(("point",), "m", "peak absolute axial displacement at the midpoint over the period"),
+    "peak_u3_mid": Variable(("point",), "m", "peak absolute out-of-plane midpoint deflection over the period"),
+    "omega_n1": Variable(("point", "mode"), "rad s-1", "natural circular frequency of the axial modes"),
+    "omega_n3": Variable(("point", "mode"), "rad s-1", "natural circular frequency of the out-of-plane modes"),
+}
+
 #: ``bifurcation_type`` codes (CF ``flag_values``/``flag_meanings``).
 BIFURCATION_CODES = {kind: i for i, kind in enumerate(floquet.KINDS)}
 _FLAG_MEANINGS = "fold branch_point_plus_one period_doubling_minus_one neimark_sacker_complex_pair"
 
 
 def _summary(pmap, value):
-    """Per-orbit quantities from the samples of the period map's run."""
+    """Per-orbit quantities from the samples of the period map's run (and the spatial model's other directions)."""
     from ..beam import deflection
     from ..model import thinnest_many
 
     model = pmap.model
     N = model.modes
-    t, y = value.info["t"], np.ascontiguousarray(value.info["y"])
+    t, y_state = value.info["t"], np.ascontiguousarray(value.info["y"])
+    y = np.ascontiguousarray(model.planar_state(y_state))  # the in-plane block of the spatial model
     L = model.config.mechanism.rod_length
     u_mid = deflection(y[:, :N], np.array([0.5 * L]), L)[:, 0]
     film = np.nan
@@ -69,9 +84,15 @@ def _summary(pmap, value):
         x_star = np.ascontiguousarray(np.broadcast_to(model.motion(t).x_star, t.shape), dtype=float)
         f = thinnest_many if model.compiled else thinnest_many.py_func
         film = float(np.min(f(x_star, y, model.params)))
-    return {"peak_u2_mid": float(np.max(np.abs(u_mid))), "peak_q": np.max(np.abs(y[:, :N]), axis=0),
-            "min_film": film, "impact_count": int(value.info["events"]), "period": pmap.period,
-            "omega_n": np.array(model.omega_n)}
+    out = {"peak_u2_mid": float(np.max(np.abs(u_mid))), "peak_q": np.max(np.abs(y[:, :N]), axis=0),
+           "min_film": film, "impact_count": int(value.info["events"]), "period": pmap.period,
+           "omega_n": np.array(model.omega_n)}
+    if pmap.spatial:
+        u1, _, u3 = model.deflections(y_state, np.array([0.5 * L]))
+        W = np.array(model.state_frequencies)
+        out.update(peak_u1_mid=float(np.max(np.abs(u1))), peak_u3_mid=float(np.max(np.abs(u3))),
+                   omega_n1=W[:N], omega_n3=W[2 * N:])
+    return out
 
 
 def _state_scale(y, samples, period):
@@ -122,7 +143,8 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
     branch : Branch
     summaries : list of dict
         Per point: ``peak_u2_mid``, ``peak_q``, ``min_film``, ``impact_count``, ``period``,
-        ``omega_n``.
+        ``omega_n``; for the spatial model also ``peak_u1_mid``, ``peak_u3_mid``, ``omega_n1``,
+        ``omega_n3``.
     family : Family
     """
     from .orbit import find_periodic
@@ -130,6 +152,7 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
     family = Family(config, parameter, motion=motion, period=period, periods=periods, jacobian=jacobian,
                     samples=samples)
     lam0 = family.value0 if start is None else float(start)
+    family.config_at(stop)  # an end outside the parameter's range is refused now (ConfigError), not met on the way
     fmap0 = family(lam0)
     # the first orbit as lubelink.periodic finds it (restarts after transients if need be)
     y = find_periodic(fmap0.config, motion, period=period, periods=periods, y0=y0, warmup=warmup,
@@ -153,7 +176,7 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
 
 
 def _entry(name, data, **attrs):
-    v = BRANCH_VARIABLES[name]
+    v = BRANCH_VARIABLES.get(name) or SPATIAL_BRANCH_VARIABLES[name]
     return variable(v.dims, data, attrs.pop("units", v.units), attrs.pop("long_name", v.long_name), **attrs)
 
 
@@ -164,7 +187,11 @@ def branch_results(branch, summaries, family):
 
     pts = branch.points
     n = pts[0].y.size
-    N = n // 2
+    N = family.config.beam.modes
+    spatial = n == 6 * N  # the spatial state [q1, q2, q3, q1_t, q2_t, q3_t]
+    y0 = np.array([p.y for p in pts]).reshape(len(pts), n)
+    inplane = slice(N, 2 * N) if spatial else slice(0, N)
+    rates = slice(4 * N, 5 * N) if spatial else slice(N, 2 * N)
     units, long_name = _parameter_units(family.parameter)
     mu = np.array([p.multipliers for p in pts]).reshape(len(pts), n)
     coords = {"point": _entry("point", np.arange(len(pts))), "mode": _entry("mode", np.arange(1, N + 1)),
@@ -176,8 +203,8 @@ def branch_results(branch, summaries, family):
         "parameter": _entry("parameter", [p.parameter for p in pts], units=units,
                             long_name=f"{family.parameter}: {long_name}", parameter=family.parameter),
         "period": _entry("period", col("period")),
-        "q0": _entry("q0", np.array([p.y[:N] for p in pts]).reshape(len(pts), N)),
-        "q_dot0": _entry("q_dot0", np.array([p.y[N:] for p in pts]).reshape(len(pts), N)),
+        "q0": _entry("q0", y0[:, inplane]),
+        "q_dot0": _entry("q_dot0", y0[:, rates]),
         "peak_u2_mid": _entry("peak_u2_mid", col("peak_u2_mid")),
         "peak_q": _entry("peak_q", np.array([s["peak_q"] for s in summaries]).reshape(len(pts), N)),
         "min_film": _entry("min_film", col("min_film")),
@@ -199,6 +226,13 @@ def branch_results(branch, summaries, family):
         "bifurcation_modulus": _entry("bifurcation_modulus", [abs(b.multiplier) for b in bif]),
         "bifurcation_argument": _entry("bifurcation_argument", [np.angle(b.multiplier) for b in bif]),
     }
+    if spatial:
+        for name, k in (("q1_0", 0), ("q3_0", 2), ("q1_dot0", 3), ("q3_dot0", 5)):
+            data[name] = _entry(name, y0[:, k * N:(k + 1) * N])
+        for name in ("peak_u1_mid", "peak_u3_mid"):
+            data[name] = _entry(name, col(name))
+        for name in ("omega_n1", "omega_n3"):
+            data[name] = _entry(name, np.array([s[name] for s in summaries]).reshape(len(pts), N))
     methods = {}
     for p in pts:
         methods[p.jacobian_method] = methods.get(p.jacobian_method, 0) + 1
@@ -258,7 +292,10 @@ def continuation(source="paper", set=None, *, stop, parameter="mechanism.crank_s
         t = 0), ``peak_u2_mid``, ``peak_q``, ``min_film``, ``impact_count``,
         ``floquet_modulus``/``floquet_argument`` (over ``multiplier``), ``max_modulus``,
         ``stable``; over ``bifurcation``: ``bifurcation_type`` (see ``flag_meanings``),
-        ``bifurcation_parameter``, ``bifurcation_point``. ``attrs["status"]`` is
+        ``bifurcation_parameter``, ``bifurcation_point``; for the spatial model (``q0``,
+        ``q_dot0``, ``peak_q``, ``omega_n``: the in-plane modes) also ``q1_0``, ``q1_dot0``,
+        ``q3_0``, ``q3_dot0``, ``peak_u1_mid``, ``peak_u3_mid``, ``omega_n1``, ``omega_n3``
+        (:data:`SPATIAL_BRANCH_VARIABLES`). ``attrs["status"]`` is
         ``"complete"``, or ``"stopped"`` with the reason in ``attrs["message"]``.
     """
     import xarray as xr

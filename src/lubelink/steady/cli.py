@@ -133,9 +133,12 @@ def _cmd_periodic(args):
         a = r.attrs
         u = np.abs(r["u2_mid"])
         i = int(np.argmax(u))
+        # the multipliers' accuracy: ~1e-8 for the planar model; the spatial model's undamped axial multipliers
+        # come out with moduli within ~5e-6 of 1 by differences (docs/periodic.md, "The spatial model")
+        band = 1e-5 if orbit.period_map.spatial else 1e-6
         stable = ("stable" if orbit.stable else
-                  "not asymptotically stable (a multiplier on the unit circle)" if abs(a["floquet_max_modulus"] - 1) < 1e-6
-                  else "unstable")
+                  f"not asymptotically stable (a multiplier on the unit circle, to {band:.0e})"
+                  if abs(a["floquet_max_modulus"] - 1) < band else "unstable")
         rows = [("source", str(source)),
                 ("period", f"{orbit.period:.6g} s" + (f" ({args.periods} crank turns)" if args.periods > 1 else "")),
                 ("newton", f"{orbit.iterations} step(s) after {orbit.warmup} period(s) of transient; residual "
@@ -143,6 +146,13 @@ def _cmd_periodic(args):
                 ("monodromy", f"{orbit.jacobian}, {orbit.evaluations} period(s) integrated"),
                 ("floquet", f"|multipliers| {_multipliers(orbit.multipliers)}: {stable}"),
                 ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(r['time'][i]):.4f} s")]
+        if "u3_mid" in r:  # the spatial model: the out-of-plane and axial midpoint too
+            u3 = np.abs(r["u3_mid"])
+            j = int(np.argmax(u3))
+            q1 = np.asarray(r["q1"])  # u1(L/2) = sum_n q1_n sin(n pi / 2)
+            u1 = np.max(np.abs(q1 @ np.sin(0.5 * np.pi * np.arange(1, q1.shape[1] + 1))))
+            rows += [("peak |u3_mid|", f"{1e3 * u3[j]:.4f} mm at t = {float(r['time'][j]):.4f} s"),
+                     ("peak |u1_mid|", f"{1e6 * u1:.4f} um (axial)")]
         if "film_min" in r:
             rows.append(("thinnest film", f"{1e3 * float(np.min(r['film_min'])):.4f} mm"))
         rows.append(("impacts", f"{a['impact_count']} in the period"))

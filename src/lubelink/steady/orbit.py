@@ -19,7 +19,8 @@ from . import floquet
 from .problem import PeriodMap
 from .shooting import MapFailure, ShootingError, shoot
 
-__all__ = ["PeriodicOrbit", "find_periodic", "orbit_results", "periodic", "FLOQUET_VARIABLES"]
+__all__ = ["PeriodicOrbit", "find_periodic", "orbit_results", "periodic", "FLOQUET_VARIABLES", "SPATIAL_VARIABLES",
+           "multiplier_directions"]
 
 #: The variables a periodic response adds to those of :data:`lubelink.results.VARIABLES`.
 FLOQUET_VARIABLES = {
@@ -27,6 +28,21 @@ FLOQUET_VARIABLES = {
     "floquet_modulus": Variable(("multiplier",), "1", "modulus of the Floquet multiplier"),
     "floquet_argument": Variable(("multiplier",), "rad", "argument of the Floquet multiplier, in (-pi, pi]"),
 }
+
+#: What a periodic response of the spatial model adds (``beam.model = "spatial"``): the modal
+#: coordinates of the other two directions (``q``, ``q_dot`` are the in-plane ones, as in every
+#: results Dataset), so that the whole periodic state is in the file, and the direction of each
+#: Floquet multiplier's eigenvector.
+SPATIAL_VARIABLES = {
+    "q1": Variable(("time", "mode"), "m", "axial modal coordinate (spatial model)"),
+    "q1_dot": Variable(("time", "mode"), "m s-1", "axial modal velocity (spatial model)"),
+    "q3": Variable(("time", "mode"), "m", "out-of-plane modal coordinate (spatial model)"),
+    "q3_dot": Variable(("time", "mode"), "m s-1", "out-of-plane modal velocity (spatial model)"),
+    "floquet_direction": Variable(("multiplier",), "1", "direction whose coordinates carry most of the Floquet "
+                                                         "multiplier's eigenvector (scaled state)"),
+}
+#: ``floquet_direction`` codes (CF ``flag_values``/``flag_meanings``).
+DIRECTIONS = {1: "axial", 2: "in_plane", 3: "out_of_plane"}
 
 
 @dataclass
@@ -40,7 +56,8 @@ class PeriodicOrbit:
     period : float
         Its period [s].
     y0 : ndarray
-        The periodic state ``[q, q_dot]`` at t = 0 [m, m/s].
+        The periodic state at t = 0 [m, m/s]: ``[q, q_dot]``, or for the spatial model
+        ``[q1, q2, q3, q1_t, q2_t, q3_t]``.
     monodromy : ndarray
         ``dy(T)/dy0`` [-].
     multipliers : ndarray
@@ -101,7 +118,8 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
     periods : int
         Crank turns in the period (slider-crank only): 2 finds period-2 responses.
     y0 : array_like, optional
-        Initial guess of the state at t = 0 (default: rest).
+        Initial guess of the state at t = 0 (default: rest): ``2 N`` values ``[q, q_dot]``, or
+        ``6 N`` ``[q1, q2, q3, q1_t, q2_t, q3_t]`` for the spatial model.
     warmup : int
         Periods of transient from ``y0`` before Newton's method starts.
     restarts : int
@@ -124,6 +142,10 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
     """
     began = time.perf_counter()
     pmap = PeriodMap(config, motion, period=period, periods=periods, jacobian=jacobian)
+    if y0 is not None and np.size(y0) != pmap.n:
+        layout = "[q1, q2, q3, q1_t, q2_t, q3_t]" if pmap.spatial else "[q, q_dot]"
+        raise ValueError(f"y0: {np.size(y0)} values; the state of this model is {layout}, {pmap.n} values "
+                         f"({config.beam.modes} mode(s))")
     y = np.zeros(pmap.n) if y0 is None else np.array(y0, dtype=float).reshape(pmap.n)
     done = 0  # periods of transient so far
     for attempt in range(restarts + 1):
@@ -164,8 +186,10 @@ def orbit_run(orbit: PeriodicOrbit, output_step=None):
 def orbit_results(orbit: PeriodicOrbit, output_step=None):
     """One period of ``orbit`` as :class:`~lubelink.results.Results`: the usual variables and the multipliers.
 
+    For the spatial model also the variables of :data:`SPATIAL_VARIABLES` (``q1``, ``q3``,
+    ``q1_dot``, ``q3_dot``, ``floquet_direction``) beside its usual ``u1``, ``u3``, ``u3_mid``.
     Attributes added: ``period`` [s], ``residual`` (scaled, of the sampled period), ``residual_q``
-    [m], ``residual_q_dot`` [m/s], ``iterations``, ``stable`` (1/0), ``jacobian``,
+    [m] (every displacement coordinate), ``residual_q_dot`` [m/s], ``iterations``, ``stable`` (1/0), ``jacobian``,
     ``floquet_max_modulus``, ``newton_residuals``, ``map_evaluations``.
     """
     from ..results import Results, collect
@@ -182,6 +206,8 @@ def orbit_results(orbit: PeriodicOrbit, output_step=None):
     coords["multiplier"] = _entry("multiplier", np.arange(1, mu.size + 1))
     data["floquet_modulus"] = _entry("floquet_modulus", np.abs(mu))
     data["floquet_argument"] = _entry("floquet_argument", np.angle(mu))
+    if orbit.period_map.spatial:
+        _add_spatial(data, r.y, orbit)
     attrs = dict(res.attrs)
     from ..config import to_toml
 
@@ -204,9 +230,46 @@ def orbit_results(orbit: PeriodicOrbit, output_step=None):
     return Results(data, coords, attrs)
 
 
-def _entry(name, data):
-    v = FLOQUET_VARIABLES[name]
-    return variable(v.dims, data, v.units, v.long_name)
+def _entry(name, data, **attrs):
+    v = FLOQUET_VARIABLES.get(name) or SPATIAL_VARIABLES[name]
+    return variable(v.dims, data, v.units, v.long_name, **attrs)
+
+
+def multiplier_directions(monodromy, scale, mu):
+    """The direction of each Floquet multiplier ``mu`` (eigenvalues of ``monodromy``): 1 (axial), 2
+    (in-plane) or 3 (out-of-plane), the one whose coordinates and velocities carry most of its
+    eigenvector in the scaled spatial state ``y / scale``, ``y = [q1, q2, q3, q1_t, q2_t, q3_t]``.
+
+    In planar motion the out-of-plane block is decoupled from the rest: the eigenvectors of its
+    multipliers lie wholly in direction 3.
+    """
+    import scipy.linalg
+
+    scale = np.asarray(scale, dtype=float)
+    A = np.asarray(monodromy, dtype=float) * scale[None, :] / scale[:, None]  # D^-1 M D: the same eigenvalues
+    lam, V = scipy.linalg.eig(A)
+    N = scale.size // 6
+    weight = np.abs(V) ** 2
+    blocks = np.stack([weight[k * N:(k + 1) * N].sum(axis=0) + weight[(3 + k) * N:(4 + k) * N].sum(axis=0)
+                       for k in range(3)])
+    direction = np.argmax(blocks, axis=0) + 1
+    free = list(range(lam.size))
+    out = np.empty(len(mu), dtype=np.int8)
+    for i, m in enumerate(mu):  # each multiplier matched to the nearest eigenvalue not yet taken
+        j = min(free, key=lambda k: abs(lam[k] - m))
+        free.remove(j)
+        out[i] = direction[j]
+    return out
+
+
+def _add_spatial(data, y, orbit):
+    """The spatial variables of :data:`SPATIAL_VARIABLES` from the sampled states ``y`` ``(time, 6 N)``."""
+    N = y.shape[1] // 6
+    for name, k in (("q1", 0), ("q3", 2), ("q1_dot", 3), ("q3_dot", 5)):
+        data[name] = _entry(name, y[:, k * N:(k + 1) * N])
+    direction = multiplier_directions(orbit.monodromy, orbit.scale, orbit.multipliers)
+    data["floquet_direction"] = _entry("floquet_direction", direction, flag_values=np.array([1, 2, 3], dtype=np.int8),
+                                       flag_meanings=" ".join(DIRECTIONS.values()))
 
 
 def periodic(source="paper", set=None, *, motion=None, period=None, periods=1, y0=None, warmup=0, restarts=2,
@@ -233,7 +296,8 @@ def periodic(source="paper", set=None, *, motion=None, period=None, periods=1, y
     -------
     xarray.Dataset
         One period (``time`` from 0 to ``T``) of the variables of :func:`lubelink.simulate`,
-        plus ``floquet_modulus(multiplier)`` and ``floquet_argument(multiplier)``; attrs
+        plus ``floquet_modulus(multiplier)`` and ``floquet_argument(multiplier)`` (and for the
+        spatial model ``q1``, ``q3``, ``q1_dot``, ``q3_dot`` and ``floquet_direction``); attrs
         ``period`` [s], ``residual`` (scaled ``max |y(T) - y0|``; ``residual_q`` [m] and
         ``residual_q_dot`` [m/s] unscaled), ``iterations``, ``stable`` (1 if every multiplier is
         inside the unit circle, else 0), ``jacobian``.

@@ -14,6 +14,15 @@ impact.
 parameter (``T = 2 pi / |crank_speed|``), i.e. the map is taken over a fixed interval of crank
 phase, so a change of crank speed changes the period of the map as well as the loads.
 
+The state is the model's whole integration state: ``[q, q_dot]`` (``2 N``) of the planar model,
+``[q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``) of the spatial one (``beam.model = "spatial"``,
+:mod:`lubelink.spatial_model`); nothing here depends on which. For the spatial model ``"auto"``
+takes the monodromy matrix by finite differences even in a smooth period: the variational
+equations are integrated in Python by an explicit method, whose step the axial modes (16 krad/s
+and up, a fixed-fixed bar) limit, while the map itself runs compiled (the configuration's
+``solver.method``; docs/periodic.md, "The spatial model", compares the accuracy of the
+differences under the exponential method and under DOP853).
+
 Shooting tightens the solver tolerances to at least ``rtol = 1e-10``, ``atol = 1e-13`` [m, m/s]:
 Newton's method and the finite-difference Jacobians need a map accurate well beyond plotting.
 """
@@ -33,7 +42,8 @@ __all__ = ["PeriodMap", "Family", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATO
 SHOOTING_RTOL = 1e-10
 SHOOTING_ATOL = 1e-13
 #: How the monodromy matrix is obtained: ``"auto"`` (variational equations when no contact event
-#: occurs in the period, else finite differences), ``"variational"``, ``"finite-difference"``.
+#: occurs in the period, else finite differences; always finite differences for the spatial model),
+#: ``"variational"``, ``"finite-difference"``.
 JACOBIANS = ("auto", "variational", "finite-difference")
 
 
@@ -80,11 +90,6 @@ class PeriodMap:
     def __init__(self, config, motion=None, period=None, periods=1, jacobian="auto", samples=64):
         from ..assembly import build_model
 
-        if config.beam.model == "spatial":
-            from ..validation import ConfigError
-
-            raise ConfigError(["beam.model = 'spatial': periodic orbits and continuation are not available for "
-                               "the spatial model yet (docs/spatial.md, Limitations); use beam.model = 'planar'"])
         if jacobian not in JACOBIANS:
             raise ValueError(f"jacobian = {jacobian!r}: must be one of {', '.join(JACOBIANS)}")
         if motion is None and period is None:
@@ -102,7 +107,8 @@ class PeriodMap:
         self.jacobian = jacobian
         self.motion = motion
         self.model = build_model(self.config, motion)
-        self.n = 2 * self.model.modes
+        self.n = self.model.initial_state().size  # 2N planar, 6N spatial
+        self.spatial = config.beam.model == "spatial"
         self._rhs = None
         self._scale = None
         self.monitored = config.film.enabled or config.contact.law != "none"
@@ -132,7 +138,7 @@ class PeriodMap:
         events = len(r.impacts)
         info = {"t": r.t, "y": r.y, "events": events, "nfev": r.nfev}
         J = None
-        if jacobian and self.jacobian != "finite-difference":
+        if jacobian and (self.jacobian == "variational" or (self.jacobian == "auto" and not self.spatial)):
             if events == 0:
                 J = self.variational(y0)
             elif self.jacobian == "variational":
