@@ -13,8 +13,12 @@ the film and gap use) with :class:`SpatialTable` in ``Params.spatial``.
 Contact on the ``u2`` faces: the compliant force (on ``q2``) and the restitution impacts (the
 jump of ``q2_t``: the mass matrix is diagonal across the directions) as in the planar model; a
 Zeno sequence of impacts stops the run with status ``chatter`` (no sustained contact yet).
-Not supported (refused by the validation): a collar mass, a variable section, the paper's
-printed equations, a user-supplied motion.
+
+A variable section (the taper keys, or ``section=``) is integrated in the three Galerkin
+eigenbases of :mod:`lubelink.spatial_section` (``SpatialTable.galerkin``; ``Params.galerkin`` is
+the in-plane one, which the impact and the gap's rate bound read); a uniform link keeps the
+sine-mode kernels. Not supported (refused by the validation): a collar mass, the paper's printed
+equations, a user-supplied motion.
 """
 
 from __future__ import annotations
@@ -24,7 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import contact, film, spatial
+from . import contact, film, section, spatial, spatial_section
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
 from .film import asperity
@@ -38,11 +42,14 @@ class SpatialTable(NamedTuple):
     """What the spatial kernels read beyond the planar parameters.
 
     ``W``: the ``3 N`` natural frequencies ``[axial, in-plane, out-of-plane]`` [rad/s]
-    (:func:`lubelink.spatial.frequencies`); ``motion``: the :class:`SpatialMotion`.
+    (:func:`lubelink.spatial.frequencies`; of a variable section the Galerkin eigenvalues);
+    ``motion``: the :class:`SpatialMotion`; ``galerkin``: the eigenbases of a variable section
+    (:class:`~lubelink.spatial_section.SpatialGalerkin`; None for a uniform link).
     """
 
     W: np.ndarray
     motion: SpatialMotion
+    galerkin: spatial_section.SpatialGalerkin | None = None
 
 
 @jitable
@@ -61,7 +68,8 @@ def spatial_rhs_given(kin, y, out, p):
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
-    q2, q2_t = y[N:2 * N], y[M + N:M + 2 * N]
+    yq = spatial_section.physical(p.spatial.galerkin, y)  # the sine-mode state (y itself for a uniform link)
+    q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
     F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
     F[:] = 0.0
     F2 = F[N:2 * N]
@@ -72,7 +80,19 @@ def spatial_rhs_given(kin, y, out, p):
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         _compliant_term(p.phase, q2, q2_t, x_star, V_r, p, F2)
     A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
+    if not section.uniform(p.spatial.galerkin):
+        _eigen_accelerations(p.spatial.galerkin, y, yq, p, A, w, al, F, out)
+        return
     spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
+
+
+@jitable
+def _eigen_accelerations(g, y, yq, p, A, w, al, F, out):
+    """:func:`~lubelink.spatial_section.eigen_accelerations` of the eigenbases ``g`` (None: a uniform link, nothing)."""
+    if g is None:
+        return
+    spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
+                                        p.basis.modal_mass, out)
 
 
 @kernel
@@ -86,18 +106,29 @@ def spatial_gap_given(kin, y, p):
     """``(gap, rate, bound)`` of the ``u2`` film: thinnest film minus ``min_film`` [m], its rate and a bound [m/s].
 
     The bound is :func:`lubelink.contact.gap_rate_bound` of the in-plane modes softened by the
-    whole spin ``|w|`` (the most any direction's centrifugal term softens them).
+    whole spin ``|w|`` (the most any direction's centrifugal term softens them); of a variable
+    section, :func:`lubelink.section.eigen_rate_bound` of the in-plane eigenmodes alike.
     """
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
-    q2, q2_t = y[N:2 * N], y[M + N:M + 2 * N]
+    yq = spatial_section.physical(p.spatial.galerkin, y)
+    q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
     w = kin[1]
     V_r = kin[5]
     xi, x_c, at_edge, side = thinnest_given(kin[4], q2, p)
     spin = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     return (xi - p.contact.min_film, contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L),
-            contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L))
+            _rate_bound(p.galerkin, y, p.basis.omega_n, spin, V_r, L))
+
+
+@jitable
+def _rate_bound(g, y, omega_n, spin, V_r, rod_length):
+    """The bound of :func:`spatial_gap_given` [m/s]: by the in-plane sine modes, or by the eigenmodes of ``g``."""
+    N = omega_n.shape[0]
+    if g is None:
+        return contact.gap_rate_bound(y[N:2 * N], y[4 * N:5 * N], omega_n, spin, V_r, rod_length)
+    return section.eigen_rate_bound(g, np.concatenate((y[N:2 * N], y[4 * N:5 * N])), omega_n, spin, V_r)
 
 
 @kernel
@@ -117,6 +148,17 @@ class SpatialModel(Model):
     @property
     def state_frequencies(self) -> np.ndarray:
         return self.params.spatial.W
+
+    def to_physical(self, y):
+        """The sine-mode states ``[Q, Q_t]`` of integrator states ``y`` ``(..., 6 N)`` (the eigen-coordinates of a
+        variable section, :mod:`lubelink.spatial_section`; ``y`` itself for a uniform link)."""
+        g = self.params.spatial.galerkin
+        return y if g is None else spatial_section.change_basis(g.phi, y)
+
+    def to_state(self, yq):
+        """The integrator states of sine-mode states ``yq`` ``(..., 6 N)`` (inverse of :meth:`to_physical`)."""
+        g = self.params.spatial.galerkin
+        return yq if g is None else spatial_section.change_basis(g.phi_inv, yq)
 
     def initial_state(self):
         return np.zeros(6 * self.modes)
@@ -177,18 +219,36 @@ class SpatialModel(Model):
 
 
 def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
-    """The :class:`SpatialModel` of a validated configuration with ``beam.model = "spatial"``."""
+    """The :class:`SpatialModel` of a validated configuration with ``beam.model = "spatial"``.
+
+    ``section``: a :class:`~lubelink.section.Section` with ``area``, ``second_moment`` (``I_z``) and
+    ``second_moment_y`` (``I_y``) replacing the beam's; a variable section (this, or the taper keys)
+    is integrated in the eigenbases of :mod:`lubelink.spatial_section`. Raises ConfigError for a
+    section the spatial model cannot use.
+    """
     from .validation import ConfigError
 
-    if motion is not None or section is not None:
-        raise ConfigError([f"beam.model = 'spatial': a user-supplied {'motion' if motion is not None else 'section'} "
-                           "is not supported by the spatial model (it runs the built-in spatial slider-crank of "
-                           "[mechanism] on a uniform link); use beam.model = 'planar'"])
+    if motion is not None:
+        raise ConfigError(["beam.model = 'spatial': a user-supplied motion is not supported by the spatial model "
+                           "(it runs the built-in spatial slider-crank of [mechanism]); use beam.model = 'planar'"])
     b, L = config.beam, config.mechanism.rod_length
     provider = SpatialSliderCrank(config.mechanism)
     compiled, note = _backend(config, provider)
-    W = spatial.frequencies(b.modes, L, b.youngs_modulus, b.density, b.area, b.second_moment,
-                            b.height * b.width**3 / 12.0)
-    table = SpatialTable(np.ascontiguousarray(W, dtype=float), provider.table())
-    params = make_params(config, None)._replace(spatial=table)
-    return SpatialModel(config, provider, params, compiled, note)
+    if section is None and b.uniform:
+        W = spatial.frequencies(b.modes, L, b.youngs_modulus, b.density, b.area, b.second_moment,
+                                b.height * b.width**3 / 12.0)
+        params = make_params(config, None)
+        galerkin = None
+    else:
+        from .section import taper
+
+        sec = taper(b, L) if section is None else section
+        try:
+            params = make_params(config, None, sec)
+            g = params.galerkin
+            W, _, galerkin = spatial_section.spatial_galerkin(sec, b.youngs_modulus, b.density, b.modes, L,
+                                                              (params.basis.omega_n, params.basis.modal_mass, g))
+        except ValueError as exc:
+            raise ConfigError([f"beam.model = 'spatial': {exc}"]) from None
+    table = SpatialTable(np.ascontiguousarray(W, dtype=float), provider.table(), galerkin)
+    return SpatialModel(config, provider, params._replace(spatial=table), compiled, note)
