@@ -116,11 +116,13 @@ def test_tapered_frequencies_of_the_three_directions_against_finite_differences(
         errors.append([np.max(np.abs(W[d] / refs[d] - 1.0)) for d in range(3)])
     errors = np.array(errors)
     assert np.all(np.diff(errors, axis=0) < 0)
-    assert np.all(errors[-1] < [1e-5, 5e-8, 5e-8]), errors[-1]  # axial: N^-3 (u1'' != 0 at the fixed ends)
+    # 24 modes: 7.1e-8, 1.6e-8, 9.7e-8; axial ~N^-3 (u1'' != 0 at the fixed ends), bending ~N^-5
+    assert np.all(errors[-1] < [1e-7, 3e-8, 2e-7]), errors[-1]
     assert np.all(errors[0] > 1e2 * errors[-1])
-    # the taper matters: the uniform link's frequencies are far off
+    # the taper matters: the uniform link's frequencies are off by 0.9 % (axial: A(x) enters through its
+    # relative variation only), 16 % and 27 %
     uniform = spatial.frequencies(3, L, E, RHO, B * H, B * H**3 / 12, H * B**3 / 12).reshape(3, 3)
-    assert np.all(np.max(np.abs(uniform / np.array(refs) - 1.0), axis=1) > 0.02)
+    assert np.all(np.max(np.abs(uniform / np.array(refs) - 1.0), axis=1) > [5e-3, 0.1, 0.2])
 
 
 def test_model_frequencies_and_results():
@@ -296,13 +298,14 @@ def test_tapered_spatial_slider_crank_against_the_mass_matrix_form():
 
 
 def test_impacts_of_a_tapered_link_on_the_u2_faces_match_the_planar_model():
-    """paper-impact's first impacts, 1 mode, tapered: the planar case of the spatial model hits at the planar
-    tapered model's times with its velocities (the in-plane eigenbasis' restitution jump)."""
-    over = {"solver.t_end": 1.2744, "beam.width_ratio": 0.9, "beam.height_ratio": 1.05}
-    pl = lubelink.simulate("paper-impact", set=over)
-    sp = lubelink.simulate("paper-impact", set={**over, "beam.model": "spatial"})
+    """A dry tapered link in a 4.6 mm clearance, restitution law, 3 modes: the planar case of the spatial model
+    hits at the planar tapered model's times with its velocities (the in-plane eigenbasis' restitution jump)."""
+    over = {"solver.t_end": 0.45, "beam.modes": 3, "beam.width_ratio": 0.9, "beam.height_ratio": 1.05,
+            "film.clearance": 4.6e-3, "contact.law": "restitution"}
+    pl = lubelink.simulate("paper-dry", set=over)
+    sp = lubelink.simulate("paper-dry", set={**over, "beam.model": "spatial"})
     assert sp.attrs["status"] == pl.attrs["status"] == "complete"
-    assert sp.sizes["impact"] == pl.sizes["impact"] >= 1
+    assert sp.sizes["impact"] == pl.sizes["impact"] >= 2
     np.testing.assert_allclose(sp.impact_time.values, pl.impact_time.values, rtol=0, atol=1e-5)
     np.testing.assert_allclose(sp.impact_velocity.values, pl.impact_velocity.values, rtol=2e-3)
     np.testing.assert_allclose(sp.impact_velocity_after.values, -0.7 * sp.impact_velocity.values, rtol=1e-9)
