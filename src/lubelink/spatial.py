@@ -47,7 +47,7 @@ def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
                            beta**2 * np.sqrt(youngs_modulus * I_y / (density * area))])
 
 
-@jitable
+@jitable(inline=True)
 def axis_acceleration(w, al):
     """``g = alpha x e1 + w x (w x e1) = (-(w2^2 + w3^2), alpha3 + w1 w2, w1 w3 - alpha2)``: the acceleration
     of the point ``x e1`` per unit ``x`` [1/s^2], a 3-tuple."""
@@ -65,7 +65,7 @@ def rigid_loads(a_O, w, al, n, rod_length):
             rigid_load(a_O[2], g3, n, rod_length))
 
 
-@jitable
+@jitable(inline=True)
 def frame_terms(w, al, x, v):
     """``2 w x v + alpha x x + w x (w x x)`` [m/s^2], a 3-tuple: the Coriolis, Euler and centrifugal
     accelerations of a displacement ``x`` [m] moving at ``v`` [m/s] relative to the link frame (3-tuples

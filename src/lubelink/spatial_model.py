@@ -60,15 +60,25 @@ def effective_acceleration(A_O, e1, e2, e3, gravity):
             A_O[2] - (gX * e3[0] + gY * e3[1]))
 
 
-@jitable
+@jitable(inline=True)
 def spatial_rhs_given(kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` (the tuple of :func:`spatial_motion_at`)."""
+    _rhs_in(p.spatial.galerkin, kin, y, out, p)
+
+
+@jitable
+def _rhs_in(g, kin, y, out, p):
+    """:func:`spatial_rhs_given` for the eigenbases ``g`` (None, a uniform link: the sine-mode equations; the
+    branches of the other case are pruned when compiled, so a uniform link runs the code it always ran)."""
     A_O, w, al = kin[0], kin[1], kin[2]
     x_star, V_r = kin[4], kin[5]
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
-    yq = spatial_section.physical(p.spatial.galerkin, y)  # the sine-mode state (y itself for a uniform link)
+    if g is None:
+        yq = y
+    else:
+        yq = spatial_section.physical(g, y)  # the sine-mode state
     q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
     F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
     F[:] = 0.0
@@ -80,19 +90,11 @@ def spatial_rhs_given(kin, y, out, p):
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         _compliant_term(p.phase, q2, q2_t, x_star, V_r, p, F2)
     A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
-    if not section.uniform(p.spatial.galerkin):
-        _eigen_accelerations(p.spatial.galerkin, y, yq, p, A, w, al, F, out)
-        return
-    spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
-
-
-@jitable
-def _eigen_accelerations(g, y, yq, p, A, w, al, F, out):
-    """:func:`~lubelink.spatial_section.eigen_accelerations` of the eigenbases ``g`` (None: a uniform link, nothing)."""
     if g is None:
-        return
-    spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
-                                        p.basis.modal_mass, out)
+        spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
+    else:
+        spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
+                                            p.basis.modal_mass, out)
 
 
 @kernel
@@ -101,7 +103,7 @@ def spatial_rhs(t, y, out, p):
     spatial_rhs_given(spatial_motion_at(t, p.spatial.motion), y, out, p)
 
 
-@jitable
+@jitable(inline=True)
 def spatial_gap_given(kin, y, p):
     """``(gap, rate, bound)`` of the ``u2`` film: thinnest film minus ``min_film`` [m], its rate and a bound [m/s].
 
@@ -109,26 +111,30 @@ def spatial_gap_given(kin, y, p):
     whole spin ``|w|`` (the most any direction's centrifugal term softens them); of a variable
     section, :func:`lubelink.section.eigen_rate_bound` of the in-plane eigenmodes alike.
     """
+    return _gap_in(p.spatial.galerkin, kin, y, p)
+
+
+@jitable
+def _gap_in(g, kin, y, p):
+    """:func:`spatial_gap_given` for the eigenbases ``g`` (None: a uniform link; as :func:`_rhs_in`)."""
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
-    yq = spatial_section.physical(p.spatial.galerkin, y)
+    if g is None:
+        yq = y
+    else:
+        yq = spatial_section.physical(g, y)
     q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
     w = kin[1]
     V_r = kin[5]
     xi, x_c, at_edge, side = thinnest_given(kin[4], q2, p)
     spin = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    return (xi - p.contact.min_film, contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L),
-            _rate_bound(p.galerkin, y, p.basis.omega_n, spin, V_r, L))
-
-
-@jitable
-def _rate_bound(g, y, omega_n, spin, V_r, rod_length):
-    """The bound of :func:`spatial_gap_given` [m/s]: by the in-plane sine modes, or by the eigenmodes of ``g``."""
-    N = omega_n.shape[0]
     if g is None:
-        return contact.gap_rate_bound(y[N:2 * N], y[4 * N:5 * N], omega_n, spin, V_r, rod_length)
-    return section.eigen_rate_bound(g, np.concatenate((y[N:2 * N], y[4 * N:5 * N])), omega_n, spin, V_r)
+        bound = contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L)
+    else:  # the in-plane eigen-coordinates [eta2, eta2_t] and eigenbasis p.galerkin
+        bound = section.eigen_rate_bound(p.galerkin, np.concatenate((y[N:2 * N], y[M + N:M + 2 * N])),
+                                         p.basis.omega_n, spin, V_r)
+    return xi - p.contact.min_film, contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L), bound
 
 
 @kernel
