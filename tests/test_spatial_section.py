@@ -185,7 +185,7 @@ def test_eigen_right_hand_side_equals_the_mass_matrix_form(seed):
     ref = MassMatrixForm(mats, damping)(Q, Q_t, a_O, w, al, F)
     for d in range(3):
         terms = np.abs(np.linalg.solve(mats[0], mats[1][d] @ Q[d])).max() + np.abs(ref[d]).max()
-        np.testing.assert_allclose(got[3 * N + d * N:3 * N + (d + 1) * N], ref[d], rtol=0, atol=1e-9 * terms)
+        np.testing.assert_allclose(got[3 * N + d * N:3 * N + (d + 1) * N], ref[d], rtol=0, atol=1e-12 * terms)  # 4e-14
 
 
 def test_square_taper_spinning_about_its_axis_whirls_at_w_n_plus_minus_omega():
@@ -208,7 +208,7 @@ def test_square_taper_spinning_about_its_axis_whirls_at_w_n_plus_minus_omega():
         s = np.linalg.eigvals(J)
         assert np.max(np.abs(s.real)) < 1e-6 * Omega
         expected = np.concatenate([W[:N], W[N:2 * N] + Omega, np.abs(W[N:2 * N] - Omega)])
-        np.testing.assert_allclose(np.sort(np.abs(s.imag)), np.sort(np.repeat(expected, 2)), rtol=1e-8)
+        np.testing.assert_allclose(np.sort(np.abs(s.imag)), np.sort(np.repeat(expected, 2)), rtol=1e-11)  # 3e-15
 
 
 def test_uniform_section_through_the_eigen_path_equals_the_uniform_path():
@@ -229,7 +229,7 @@ def test_uniform_section_through_the_eigen_path_equals_the_uniform_path():
         a = m0.rhs(t, y)
         b = m1.to_physical(m1.rhs(t, m1.to_state(y)))
         scale = np.max(np.abs(a)) + np.max(m0.state_frequencies) ** 2 * 1e-7
-        np.testing.assert_allclose(b, a, rtol=0, atol=1e2 * EPS * scale)
+        np.testing.assert_allclose(b, a, rtol=0, atol=20 * EPS * scale)  # 2 eps measured
         assert m1.gap(t, m1.to_state(y)) == pytest.approx(m0.gap(t, y), abs=1e-15)
 
 
