@@ -39,6 +39,8 @@ VARIABLES = {
     "time": Variable(("time",), "s", "time"),
     "x": Variable(("x",), "m", "position along the link from the crank pin O"),
     "mode": Variable(("mode",), "1", "mode number"),
+    "direction": Variable(("direction",), "1", "displacement direction (spatial model): 1 axial u1, 2 in-plane u2, "
+                                               "3 out-of-plane u3"),
     "X": Variable(("X",), "m", "position along the pad from its start"),
     "impact": Variable(("impact",), "1", "impact number"),
     "q": Variable(("time", "mode"), "m", "modal coordinate"),
@@ -51,6 +53,8 @@ VARIABLES = {
     "x_star": Variable(("time",), "m", "collar position along the link"),
     "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
     "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
+    "omega_spatial": Variable(("direction", "mode"), "rad s-1", "natural circular frequencies of the axial, "
+                                                               "in-plane and out-of-plane modes (spatial model)"),
     "film_min": Variable(("time",), "m", "thinnest film on the pad (spatial model: of the u2 faces)"),
     "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
                          "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
@@ -235,7 +239,10 @@ def collect(result, variables=None) -> Results:
         for name, value in (("u1", u1[:, :-1]), ("u3", u3[:, :-1]), ("u3_mid", u3[:, -1])):
             if name in want:
                 data[name] = _entry(name, value)
+        data["omega_spatial"] = _entry("omega_spatial", np.reshape(model.state_frequencies, (3, N)))
     coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
+    if "omega_spatial" in data:
+        coords["direction"] = _entry("direction", np.arange(1, 4))
     fm = cfg.film
     later = {}
     if fm.enabled:

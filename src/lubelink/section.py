@@ -51,7 +51,9 @@ def _profile(spec, name):
 
 @dataclass(frozen=True)
 class Section:
-    """Cross-section along the link: ``area(x)`` [m^2] and ``second_moment(x)`` [m^4] (bending in the plane).
+    """Cross-section along the link: ``area(x)`` [m^2], ``second_moment(x)`` [m^4] (``I_z``: bending in
+    the plane, ``u2``) and ``second_moment_y(x)`` [m^4] (``I_y``: bending out of the plane, ``u3``;
+    needed by the spatial model only, docs/spatial.md).
 
     Each is a vectorised callable of ``x`` [m] (``0 <= x <= L``) or a sampled table ``(x, values)``
     (interpolated linearly; it must cover ``[0, L]``).
@@ -59,16 +61,30 @@ class Section:
 
     area: Callable | tuple
     second_moment: Callable | tuple
+    second_moment_y: Callable | tuple | None = None
 
     def functions(self):
         """``(A, I)`` as vectorised callables."""
         return _profile(self.area, "area"), _profile(self.second_moment, "second_moment")
 
+    def profile(self, name):
+        """The vectorised callable of the field ``name`` (``"area"``, ``"second_moment"``, ``"second_moment_y"``).
+
+        Raises ValueError if it is not given (``second_moment_y`` is optional).
+        """
+        spec = getattr(self, name)
+        if spec is None:
+            raise ValueError(f"section {name}: not given (None); the spatial model (beam.model = 'spatial') needs "
+                             "I_y(x) [m^4], the second moment of area for out-of-plane bending u3, as a callable of "
+                             "x [m] or a table (x, values)")
+        return _profile(spec, name)
+
 
 def taper(beam, rod_length) -> Section:
     """The linear taper of ``beam.width_ratio``, ``beam.height_ratio`` (value at ``x = L`` over value at 0).
 
-    Width ``B(x) = B (1 + (r_B - 1) x/L)``, height ``h(x)`` alike; ``A = B h``, ``I = B h^3 / 12`` [SI].
+    Width ``B(x) = B (1 + (r_B - 1) x/L)``, height ``h(x)`` alike; ``A = B h``, ``I_z = B h^3 / 12``,
+    ``I_y = h B^3 / 12`` [SI] (the height ``h`` lies in the plane of ``u2``, the width along ``e3``).
     """
     rb = getattr(beam, "width_ratio", 1.0)
     rh = getattr(beam, "height_ratio", 1.0)
@@ -79,7 +95,8 @@ def taper(beam, rod_length) -> Section:
     def height(x):
         return beam.height * (1.0 + (rh - 1.0) * np.asarray(x, dtype=float) / rod_length)
 
-    return Section(area=lambda x: width(x) * height(x), second_moment=lambda x: width(x) * height(x) ** 3 / 12.0)
+    return Section(area=lambda x: width(x) * height(x), second_moment=lambda x: width(x) * height(x) ** 3 / 12.0,
+                   second_moment_y=lambda x: height(x) * width(x) ** 3 / 12.0)
 
 
 def quadrature(rod_length, modes, nodes=8):
@@ -97,20 +114,26 @@ def quadrature(rod_length, modes, nodes=8):
     return x, (half[:, None] * w).ravel()
 
 
-def galerkin_matrices(section: Section, youngs_modulus, density, modes, rod_length):
+def sampled(section: Section, name, x, rod_length):
+    """The field ``name`` of ``section`` at the points ``x`` [m]; ValueError unless positive and finite."""
+    v = np.asarray(section.profile(name)(x), dtype=float) * np.ones_like(x)
+    if not np.all(np.isfinite(v)) or np.any(v <= 0.0):
+        bad = ~(np.isfinite(v) & (v > 0))
+        raise ValueError(f"section {name}: must be positive and finite on [0, {rod_length}] m; "
+                         f"at x = {x[bad][0]:.6g} m it is {v[bad][0]!r}")
+    return v
+
+
+def galerkin_matrices(section: Section, youngs_modulus, density, modes, rod_length, moment="second_moment"):
     """``(M, K, r0, r1)`` of the sine modes (module docstring) [kg, N/m, kg, kg m].
 
-    Raises ValueError if the section is not positive and finite on ``[0, L]``.
+    ``moment``: the field of ``section`` that is ``I`` (``"second_moment_y"``: the out-of-plane
+    bending of the spatial model). Raises ValueError if the section is not positive and finite
+    on ``[0, L]``.
     """
-    area, second = section.functions()
     x, w = quadrature(rod_length, modes)
-    A = np.asarray(area(x), dtype=float) * np.ones_like(x)
-    I = np.asarray(second(x), dtype=float) * np.ones_like(x)
-    for name, v in (("area", A), ("second_moment", I)):
-        if not np.all(np.isfinite(v)) or np.any(v <= 0.0):
-            bad = x[~(np.isfinite(v) & (v > 0))][0]
-            raise ValueError(f"section {name}: must be positive and finite on [0, {rod_length}] m; "
-                             f"at x = {bad:.6g} m it is {v[~(np.isfinite(v) & (v > 0))][0]!r}")
+    A = sampled(section, "area", x, rod_length)
+    I = sampled(section, moment, x, rod_length)
     beta = np.arange(1, modes + 1) * np.pi / rod_length
     S = np.sin(np.outer(x, beta))  # (nodes, N)
     mass = density * A * w
@@ -152,9 +175,10 @@ def eigenbasis(M, K, m_ref):
     return np.sqrt(np.maximum(lam, 0.0)), Phi
 
 
-def galerkin_table(section, youngs_modulus, density, modes, rod_length):
-    """``(omega_n [rad/s], m_ref [kg], GalerkinTable)`` of ``section`` (module docstring)."""
-    M, K, r0, r1 = galerkin_matrices(section, youngs_modulus, density, modes, rod_length)
+def galerkin_table(section, youngs_modulus, density, modes, rod_length, moment="second_moment"):
+    """``(omega_n [rad/s], m_ref [kg], GalerkinTable)`` of ``section`` (module docstring; ``moment``: that
+    of :func:`galerkin_matrices`)."""
+    M, K, r0, r1 = galerkin_matrices(section, youngs_modulus, density, modes, rod_length, moment)
     x, w = quadrature(rod_length, modes)
     m_ref = 0.5 * float(np.sum(density * np.asarray(section.functions()[0](x)) * w))
     omega_n, Phi = eigenbasis(M, K, m_ref)

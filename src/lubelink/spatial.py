@@ -33,7 +33,7 @@ import numpy as np
 from ._jit import jitable
 from .beam import rigid_load
 
-__all__ = ["frequencies", "rigid_loads", "accelerations", "deflections"]
+__all__ = ["frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations", "deflections"]
 
 
 def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
@@ -47,18 +47,36 @@ def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
                            beta**2 * np.sqrt(youngs_modulus * I_y / (density * area))])
 
 
+@jitable(inline=True)
+def axis_acceleration(w, al):
+    """``g = alpha x e1 + w x (w x e1) = (-(w2^2 + w3^2), alpha3 + w1 w2, w1 w3 - alpha2)``: the acceleration
+    of the point ``x e1`` per unit ``x`` [1/s^2], a 3-tuple."""
+    return (-(w[1] * w[1] + w[2] * w[2]), al[2] + w[0] * w[1], w[0] * w[2] - al[1])
+
+
 @jitable
 def rigid_loads(a_O, w, al, n, rod_length):
     """Modal load of the rigid-motion inertia per unit modal mass, mode ``n``, directions 1-3 [m/s^2].
 
-    ``-(a_O c0_n + g c1_n)`` with ``g = alpha x e1 + w x (w x e1) = (-(w2^2 + w3^2), alpha3 + w1 w2,
-    w1 w3 - alpha2)`` the acceleration of the point ``x e1`` per unit ``x``.
+    ``-(a_O c0_n + g c1_n)`` with ``g`` the :func:`axis_acceleration`.
     """
-    g1 = -(w[1] * w[1] + w[2] * w[2])
-    g2 = al[2] + w[0] * w[1]
-    g3 = w[0] * w[2] - al[1]
+    g1, g2, g3 = axis_acceleration(w, al)
     return (rigid_load(a_O[0], g1, n, rod_length), rigid_load(a_O[1], g2, n, rod_length),
             rigid_load(a_O[2], g3, n, rod_length))
+
+
+@jitable(inline=True)
+def frame_terms(w, al, x, v):
+    """``2 w x v + alpha x x + w x (w x x)`` [m/s^2], a 3-tuple: the Coriolis, Euler and centrifugal
+    accelerations of a displacement ``x`` [m] moving at ``v`` [m/s] relative to the link frame (3-tuples
+    of one mode's coordinates, the same in every basis the mass matrix is common to)."""
+    w1, w2, w3 = w[0], w[1], w[2]
+    # w x (w x x) = w (w . x) - |w|^2 x
+    wq = w1 * x[0] + w2 * x[1] + w3 * x[2]
+    ww = w1 * w1 + w2 * w2 + w3 * w3
+    return (2.0 * (w2 * v[2] - w3 * v[1]) + (al[1] * x[2] - al[2] * x[1]) + (w1 * wq - ww * x[0]),
+            2.0 * (w3 * v[0] - w1 * v[2]) + (al[2] * x[0] - al[0] * x[2]) + (w2 * wq - ww * x[1]),
+            2.0 * (w1 * v[1] - w2 * v[0]) + (al[0] * x[1] - al[1] * x[0]) + (w3 * wq - ww * x[2]))
 
 
 @jitable
@@ -83,24 +101,15 @@ def accelerations(y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out):
     """
     N = W.shape[0] // 3
     M = 3 * N
-    w1, w2, w3 = w[0], w[1], w[2]
     for n in range(N):
         i1, i2, i3 = n, N + n, 2 * N + n
         x1, x2, x3 = y[i1], y[i2], y[i3]
         v1, v2, v3 = y[M + i1], y[M + i2], y[M + i3]
         r1, r2, r3 = rigid_loads(a_O, w, al, n + 1, rod_length)
-        f1 = F[i1] / modal_mass + r1
-        f2 = F[i2] / modal_mass + r2
-        f3 = F[i3] / modal_mass + r3
-        # w x (w x Q) = w (w . Q) - |w|^2 Q
-        wq = w1 * x1 + w2 * x2 + w3 * x3
-        ww = w1 * w1 + w2 * w2 + w3 * w3
-        out[M + i1] = (-W[i1] ** 2 * x1 - 2.0 * zeta * W[i1] * v1 + f1 - 2.0 * (w2 * v3 - w3 * v2)
-                       - (al[1] * x3 - al[2] * x2) - (w1 * wq - ww * x1))
-        out[M + i2] = (-W[i2] ** 2 * x2 - 2.0 * zeta * W[i2] * v2 + f2 - 2.0 * (w3 * v1 - w1 * v3)
-                       - (al[2] * x1 - al[0] * x3) - (w2 * wq - ww * x2))
-        out[M + i3] = (-W[i3] ** 2 * x3 - 2.0 * zeta * W[i3] * v3 + f3 - 2.0 * (w1 * v2 - w2 * v1)
-                       - (al[0] * x2 - al[1] * x1) - (w3 * wq - ww * x3))
+        c1, c2, c3 = frame_terms(w, al, (x1, x2, x3), (v1, v2, v3))
+        out[M + i1] = -W[i1] ** 2 * x1 - 2.0 * zeta * W[i1] * v1 + F[i1] / modal_mass + r1 - c1
+        out[M + i2] = -W[i2] ** 2 * x2 - 2.0 * zeta * W[i2] * v2 + F[i2] / modal_mass + r2 - c2
+        out[M + i3] = -W[i3] ** 2 * x3 - 2.0 * zeta * W[i3] * v3 + F[i3] / modal_mass + r3 - c3
         out[i1] = v1
         out[i2] = v2
         out[i3] = v3

@@ -18,8 +18,13 @@ block's velocities: the mass matrix is diagonal across the directions), and afte
 sequence the sustained contact (:func:`lubelink.model.sustained_on` on its block), all as in
 the planar model.
 A motion of the user's (:class:`~lubelink.spatial_motion.SpatialPrescribedMotion`, sampled or
-callables) replaces the slider-crank. Not supported (refused by the validation): a collar mass, a
-variable section, the paper's printed equations.
+callables) replaces the slider-crank.
+
+A variable section (the taper keys, or ``section=``) is integrated in the three Galerkin
+eigenbases of :mod:`lubelink.spatial_section` (``SpatialTable.galerkin``; ``Params.galerkin`` is
+the in-plane one, which the impact and the gap's rate bound read); a uniform link keeps the
+sine-mode kernels. Not supported (refused by the validation): a collar mass, the paper's printed
+equations, a variable section with the ``u3`` film pair.
 """
 
 from __future__ import annotations
@@ -29,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import contact, film, spatial
+from . import contact, film, section, spatial, spatial_section
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
 from .model import ContactPhase, _compliant_term, asperity_term, in_sustained, sustained_on, thinnest_given
@@ -47,11 +52,14 @@ class SpatialTable(NamedTuple):
     """What the spatial kernels read beyond the planar parameters.
 
     ``W``: the ``3 N`` natural frequencies ``[axial, in-plane, out-of-plane]`` [rad/s]
-    (:func:`lubelink.spatial.frequencies`); ``motion``: the :class:`SpatialMotion`.
+    (:func:`lubelink.spatial.frequencies`; of a variable section the Galerkin eigenvalues);
+    ``motion``: the :class:`SpatialMotion`; ``galerkin``: the eigenbases of a variable section
+    (:class:`~lubelink.spatial_section.SpatialGalerkin`; None for a uniform link).
     """
 
     W: np.ndarray
     motion: SpatialMotion
+    galerkin: spatial_section.SpatialGalerkin | None = None
 
 
 @jitable
@@ -99,22 +107,37 @@ def _compliant_spatial(phase, y, x_star, V_r, p, F):
                     y[M + k * N:M + (k + 1) * N], x_star, V_r, p, F[k * N:(k + 1) * N])
 
 
-@jitable
+@jitable(inline=True)
 def spatial_rhs_given(kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` (the tuple of :func:`spatial_motion_at`), without a sustained contact."""
+    _rhs_in(p.spatial.galerkin, kin, y, out, p)
+
+
+@jitable
+def _rhs_in(g, kin, y, out, p):
+    """:func:`spatial_rhs_given` for the eigenbases ``g`` (None, a uniform link: the sine-mode equations; the
+    branches of the other case are pruned when compiled, so a uniform link runs the code it always ran)."""
     A_O, w, al = kin[0], kin[1], kin[2]
     x_star, V_r = kin[4], kin[5]
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
+    if g is None:
+        yq = y
+    else:
+        yq = spatial_section.physical(g, y)  # the sine-mode state
     F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
     F[:] = 0.0
-    _face_loads(y[N:2 * N], y[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
+    _face_loads(yq[N:2 * N], yq[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
     if p.film.faces == U2_U3:  # the u3 faces: pad width h
-        _face_loads(y[2 * N:M], y[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
-    _compliant_spatial(p.phase, y, x_star, V_r, p, F)
+        _face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
+    _compliant_spatial(p.phase, yq, x_star, V_r, p, F)
     A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
-    spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
+    if g is None:
+        spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
+    else:
+        spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
+                                            p.basis.modal_mass, out)
 
 
 @jitable
@@ -143,26 +166,41 @@ def spatial_rhs(t, y, out, p):
         _sustained_spatial(p.phase, t, kin, y, out, p)
 
 
-@jitable
+@jitable(inline=True)
 def spatial_gap_given(kin, y, p):
     """``(gap, rate, bound)``: the thinnest film over the face pairs minus ``min_film`` [m], its rate and a bound [m/s].
 
     The films of the ``u2`` faces, and with ``film.faces = "u2+u3"`` those of the ``u3`` faces
     (the same functions on the ``q3`` block): the gap is the smaller. The bound is the larger of
     the pairs' :func:`lubelink.contact.gap_rate_bound`, each direction's modes softened by the
-    whole spin ``|w|`` (the most any direction's centrifugal term softens them).
+    whole spin ``|w|`` (the most any direction's centrifugal term softens them); of a variable
+    section (``u2`` faces only), :func:`lubelink.section.eigen_rate_bound` of the in-plane eigenmodes alike.
     """
+    return _gap_in(p.spatial.galerkin, kin, y, p)
+
+
+@jitable
+def _gap_in(g, kin, y, p):
+    """:func:`spatial_gap_given` for the eigenbases ``g`` (None: a uniform link; as :func:`_rhs_in`)."""
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
-    q2, q2_t = y[N:2 * N], y[M + N:M + 2 * N]
+    if g is None:
+        yq = y
+    else:
+        yq = spatial_section.physical(g, y)
+    q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
     w = kin[1]
     V_r = kin[5]
     xi, x_c, at_edge, side = thinnest_given(kin[4], q2, p)
     spin = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     rate = contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L)
-    bound = contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L)
-    if p.film.faces == U2_U3:
+    if g is None:
+        bound = contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L)
+    else:  # the in-plane eigen-coordinates [eta2, eta2_t] and eigenbasis p.galerkin
+        bound = section.eigen_rate_bound(p.galerkin, np.concatenate((y[N:2 * N], y[M + N:M + 2 * N])),
+                                         p.basis.omega_n, spin, V_r)
+    if p.film.faces == U2_U3 and g is None:  # (a variable section with the u3 pair is refused)
         q3, q3_t = y[2 * N:M], y[M + 2 * N:]
         xi3, x_c3, at_edge3, side3 = thinnest_given(kin[4], q3, p)
         bound = max(bound, contact.gap_rate_bound(q3, q3_t, p.spatial.W[2 * N:], spin, V_r, L))
@@ -214,6 +252,17 @@ class SpatialModel(Model):
     @property
     def state_frequencies(self) -> np.ndarray:
         return self.params.spatial.W
+
+    def to_physical(self, y):
+        """The sine-mode states ``[Q, Q_t]`` of integrator states ``y`` ``(..., 6 N)`` (the eigen-coordinates of a
+        variable section, :mod:`lubelink.spatial_section`; ``y`` itself for a uniform link)."""
+        g = self.params.spatial.galerkin
+        return y if g is None else spatial_section.change_basis(g.phi, y)
+
+    def to_state(self, yq):
+        """The integrator states of sine-mode states ``yq`` ``(..., 6 N)`` (inverse of :meth:`to_physical`)."""
+        g = self.params.spatial.galerkin
+        return yq if g is None else spatial_section.change_basis(g.phi_inv, yq)
 
     def initial_state(self):
         return np.zeros(6 * self.modes)
@@ -291,9 +340,13 @@ class SpatialModel(Model):
         N = self.modes
         y_plus = np.array(y, dtype=float)
         e = self.config.contact.restitution if restitution is None else restitution
+        L = self.config.mechanism.rod_length
         if v_minus > 0.0:
             v = y_plus[(3 + k) * N:(4 + k) * N]
-            v[:] = side * contact.restitution_jump(side * v, x_c, v_minus, e, self.config.mechanism.rod_length)
+            if self.params.galerkin is not None:  # a variable section (u2 faces): the in-plane eigenbasis' jump
+                v[:] = side * section.eigen_restitution_jump(self.params.galerkin, side * v, x_c, v_minus, e, L)
+            else:
+                v[:] = side * contact.restitution_jump(side * v, x_c, v_minus, e, L)
         return y_plus, x_c, v_minus, code
 
     def contact_force(self, t, y, phase):
@@ -316,25 +369,48 @@ class SpatialModel(Model):
 
 
 def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
-    """The :class:`SpatialModel` of a validated configuration with ``beam.model = "spatial"``."""
+    """The :class:`SpatialModel` of a validated configuration with ``beam.model = "spatial"``.
+
+    ``motion``: a spatial motion of the user's (:mod:`lubelink.spatial_motion`), default the
+    slider-crank of ``[mechanism]``. ``section``: a :class:`~lubelink.section.Section` with ``area``,
+    ``second_moment`` (``I_z``) and ``second_moment_y`` (``I_y``) replacing the beam's; a variable
+    section (this, or the taper keys) is integrated in the eigenbases of
+    :mod:`lubelink.spatial_section`. Raises ConfigError for what the spatial model cannot run.
+    """
     from .validation import ConfigError
 
-    if section is not None:
-        raise ConfigError(["beam.model = 'spatial': a user-supplied section is not supported by the spatial model "
-                           "(it runs a uniform link); use beam.model = 'planar'"])
     provider = SpatialSliderCrank(config.mechanism) if motion is None else motion
     problems = motion_problems(provider, config)
     if not problems and provider.table() is None and config.contact.law == "restitution":
         problems.append("contact.law = 'restitution' with a spatial motion of callables: its sustained contact needs "
                         "the collar's acceleration, which callables do not give; give the motion as samples "
                         "(lubelink.spatial_motion.sampled_spatial_motion), or use contact.law = 'compliant' or 'none'")
+    b, L = config.beam, config.mechanism.rod_length
+    variable = section is not None or not b.uniform
+    if variable and config.film.faces == "u2+u3":
+        problems.append("film.faces = 'u2+u3' with a variable section (section= or the taper keys) is not supported "
+                        "with beam.model = 'spatial' (docs/spatial.md, Limitations); use film.faces = 'u2' or a "
+                        "uniform link")
     if problems:
         raise ConfigError(problems)
-    b, L = config.beam, config.mechanism.rod_length
     compiled, note = _backend(config, provider)
-    W = spatial.frequencies(b.modes, L, b.youngs_modulus, b.density, b.area, b.second_moment,
-                            b.height * b.width**3 / 12.0)
+    if not variable:
+        W = spatial.frequencies(b.modes, L, b.youngs_modulus, b.density, b.area, b.second_moment,
+                                b.height * b.width**3 / 12.0)
+        params = make_params(config, None)
+        galerkin = None
+    else:
+        from .section import taper
+
+        sec = taper(b, L) if section is None else section
+        try:
+            params = make_params(config, None, sec)
+            W, _, galerkin = spatial_section.spatial_galerkin(sec, b.youngs_modulus, b.density, b.modes, L,
+                                                              (params.basis.omega_n, params.basis.modal_mass,
+                                                               params.galerkin))
+        except ValueError as exc:
+            raise ConfigError([f"beam.model = 'spatial': {exc}"]) from None
     table = provider.table()  # callables: the slider-crank's table holds the place (compiled code is not run)
-    table = SpatialTable(np.ascontiguousarray(W, dtype=float), geometry(config.mechanism) if table is None else table)
-    params = make_params(config, None)._replace(spatial=table)
-    return SpatialModel(config, provider, params, compiled, note)
+    table = SpatialTable(np.ascontiguousarray(W, dtype=float), geometry(config.mechanism) if table is None else table,
+                         galerkin)
+    return SpatialModel(config, provider, params._replace(spatial=table), compiled, note)

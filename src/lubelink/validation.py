@@ -252,12 +252,13 @@ def validate(config: Config) -> Config:
 
 def _spatial_problems(config):
     """What ``beam.model = "spatial"`` does not support yet, one message each (docs/spatial.md, "Limitations")."""
-    b = config.beam
     why = "is not supported with beam.model = 'spatial' (docs/spatial.md, Limitations); "
     out = []
-    if not b.uniform:
-        out.append(f"beam.width_ratio = {b.width_ratio}, beam.height_ratio = {b.height_ratio}: a variable section "
-                   f"{why}set both to 1 or beam.model = 'planar'")
+    b = config.beam
+    if not b.uniform and config.film.faces == "u2+u3":
+        out.append(f"film.faces = 'u2+u3' with beam.width_ratio = {b.width_ratio}, beam.height_ratio = "
+                   f"{b.height_ratio}: the u3 film pair on a variable section {why}use film.faces = 'u2' or a "
+                   "uniform link")
     if config.collar.mass != 0.0:
         out.append(f"collar.mass = {config.collar.mass}: the collar's joint reaction {why}set it to 0")
     if config.model.equations != "corrected":
