@@ -311,10 +311,8 @@ def resolve(source="paper", overrides=None) -> Config:
         Scenario name (``"paper"``, ...), path of a TOML file, parsed TOML
         dict, or a configuration.
     overrides : dict, optional
-        ``{"section.key": value}`` applied last.
-
-    The configuration is validated once, with the overrides applied (the faults of the source and
-    of the overrides are reported together).
+        ``{"section.key": value}`` applied last (the configuration is validated once, with them
+        applied: the faults of the source and of the overrides are reported together).
     """
     problems = []
     if isinstance(source, Config):
