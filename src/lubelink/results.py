@@ -144,11 +144,9 @@ def _pool():
     """
     pid = os.getpid()
     if pid not in _POOL:
-        try:
-            cores = len(os.sched_getaffinity(0))
-        except AttributeError:  # pragma: no cover - macOS, Windows
-            cores = os.cpu_count() or 1
-        if cores < 2:
+        from ._prewarm import _cores
+
+        if _cores() < 2:
             _POOL[pid] = None
         else:
             from concurrent.futures import ThreadPoolExecutor
