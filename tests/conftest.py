@@ -9,6 +9,10 @@ settings.register_profile("long", max_examples=2000, deadline=None)
 settings.register_profile("thorough", max_examples=10_000, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
+# A cold short run would run as Python beside a background compile (lubelink._prewarm.first_run):
+# the tests compile in the foreground, as they did, except those of that feature.
+os.environ.setdefault("LUBELINK_FIRST_RUN", "compile")
+
 #: A short run of the paper's mechanism, enough for end-to-end checks.
 SHORT = {"solver.t_end": 0.3, "solver.output_step": 1e-3, "output.x_points": 21, "output.pad_points": 11}
 

@@ -319,3 +319,18 @@ def test_a_compile_failure_is_status_2_with_numba_and_a_named_fallback_with_auto
         with pytest.warns(RuntimeWarning, match="compiled path failed"):
             assert main(args) == 0
         assert "backend numpy (compile failed: TypingError)" in capsys.readouterr().out
+
+
+# ====================================================================== the command as a process
+def test_the_command_flushes_its_output_and_runs_the_exit_handlers_before_its_fast_exit():
+    """``console`` ends the process without the interpreter's teardown: what was printed (into a
+    pipe, block-buffered) and what the exit handlers do must still happen, and the status be main's."""
+    code = ("import atexit, sys; atexit.register(lambda: print('handler ran')); "
+            "from lubelink.cli import console; sys.argv = ['lubelink', *sys.argv[1:]]; console()")
+    listed = subprocess.run([sys.executable, "-c", code, "scenarios"], capture_output=True, text=True, timeout=300)
+    assert listed.returncode == 0, listed.stderr
+    lines = listed.stdout.splitlines()
+    assert lines[-1] == "handler ran" and len(lines) == len(lubelink.config.SCENARIOS) + 1
+    bad = subprocess.run([sys.executable, "-c", code, "run", "--no-output", "--set", "beam.modes=0"],
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and "beam.modes" in bad.stderr and bad.stdout == "handler ran\n"

@@ -1,5 +1,6 @@
 """The two-process first compile (lubelink._prewarm): its protocol and what makes it effective."""
 
+import os
 import subprocess
 import sys
 import time
@@ -80,3 +81,99 @@ def test_wait_returns_when_the_kernels_are_reported_or_the_helper_ends_or_the_li
         stuck.kill()
         stuck.wait()
     _prewarm.wait(None)  # nothing started: nothing to wait for
+
+
+# ---------------------------------------------------------------- a cold short run: Python, compiling beside
+def _first(monkeypatch, tmp_path, warm=False, busy=False, limit=None):
+    """``first_run`` of ``paper`` with the cache state, the lock and the limit given."""
+    monkeypatch.setenv("LUBELINK_FIRST_RUN", "python")
+    monkeypatch.setattr(_prewarm, "_is_warm", lambda dispatcher, args: warm)
+    monkeypatch.setattr(_prewarm, "_WARM", {})
+    monkeypatch.setattr(_prewarm, "_lock_path", lambda dispatcher: str(tmp_path / "compile.lock"))
+    started = []
+    monkeypatch.setattr(_prewarm.subprocess, "Popen", lambda *a, **k: started.append(a) or _NoProcess())
+    if limit is not None:
+        monkeypatch.setattr(_prewarm, "FIRST_RUN_LIMIT", limit)
+    model = build_model(resolve("paper", {"solver.t_end": 0.2}))
+    if busy:
+        import fcntl
+        import os
+
+        fd = os.open(tmp_path / "compile.lock", os.O_RDWR | os.O_CREAT)
+        fcntl.flock(fd, fcntl.LOCK_EX)
+    return model, _prewarm.first_run(model), started
+
+
+class _NoProcess:
+    pid = 0
+    stdin = type("Sink", (), {"write": lambda self, b: None, "close": lambda self: None})()
+
+    def poll(self):
+        return 0
+
+
+def test_a_warm_cache_runs_compiled_and_starts_nothing(monkeypatch, tmp_path):
+    model, chosen, started = _first(monkeypatch, tmp_path, warm=True)
+    assert chosen is model and chosen.compiled and started == []
+
+
+def test_a_cold_short_run_runs_as_python_and_compiles_in_the_background(monkeypatch, tmp_path):
+    model, chosen, started = _first(monkeypatch, tmp_path)
+    assert not chosen.compiled and chosen.params is model.params
+    assert "background" in chosen.backend_note and len(started) == 1
+    assert started[0][0][-3:] == ["lubelink._prewarm", "--background", str(tmp_path / "compile.lock")]
+
+
+def test_a_cold_long_run_compiles_in_the_foreground(monkeypatch, tmp_path):
+    model, chosen, started = _first(monkeypatch, tmp_path, limit=0.0)
+    assert chosen is model and started == []
+
+
+def test_while_a_background_compile_runs_a_short_run_is_python_and_starts_no_second(monkeypatch, tmp_path):
+    model, chosen, started = _first(monkeypatch, tmp_path, warm=True, busy=True)  # rhs cached, the rest not yet
+    assert not chosen.compiled and "being built in the background" in chosen.backend_note and started == []
+
+
+@pytest.mark.parametrize("env", [{"LUBELINK_FIRST_RUN": "compile"}, {"LUBELINK_PREWARM": "0"}])
+def test_the_environment_turns_it_off(monkeypatch, tmp_path, env):
+    model, _, _ = _first(monkeypatch, tmp_path)
+    for name, value in env.items():
+        monkeypatch.setenv(name, value)
+    assert _prewarm.first_run(model) is model
+
+
+def test_the_numpy_estimate_prices_the_results_of_a_film_only():
+    from lubelink.estimate import results_cost
+
+    wet = resolve("paper", {"solver.backend": "numpy"})
+    assert 1.0 < results_cost(wet) < 5.0  # measured 2.1 s on the 2-core machine (estimate.py)
+    assert results_cost(resolve("paper-dry", {"solver.backend": "numpy"})) == 0.0
+    assert results_cost(resolve("paper")) == 0.0  # compiled: milliseconds
+
+
+@pytest.mark.skipif(os.name != "posix", reason="the background compile is POSIX only")
+def test_a_cold_first_run_end_to_end_then_a_compiled_run_with_the_same_results(tmp_path):
+    """Through the command, on an empty cache: the first run is Python and names the background
+    compile's pid; once that process has ended, the same run is compiled and agrees."""
+    import os
+    import re
+
+    import lubelink
+
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), "LUBELINK_FIRST_RUN": "python"}
+    args = ["run", "paper", "-q", "--set", "solver.t_end=0.2", "--set", "output.x_points=11"]
+    first = subprocess.run([sys.executable, "-m", "lubelink", *args, "-o", "a.nc"], cwd=tmp_path, env=env,
+                           capture_output=True, text=True, timeout=300)
+    assert first.returncode == 0, first.stderr
+    ds = lubelink.load(tmp_path / "a.nc")
+    assert ds.attrs["backend"] == "numpy" and "background" in ds.attrs["backend_note"]
+    pid = int(re.search(r"pid (\d+)", ds.attrs["backend_note"]).group(1))
+    deadline = time.monotonic() + 600
+    while os.path.exists(f"/proc/{pid}") and time.monotonic() < deadline:
+        time.sleep(0.5)
+    second = subprocess.run([sys.executable, "-m", "lubelink", *args, "-o", "b.nc"], cwd=tmp_path, env=env,
+                            capture_output=True, text=True, timeout=300)
+    assert second.returncode == 0, second.stderr
+    again = lubelink.load(tmp_path / "b.nc")
+    assert again.attrs["backend"] == "numba" and again.attrs["backend_note"] == ""
+    assert abs(again["u2_mid"] - ds["u2_mid"]).max() < 1e-9  # [m]; the peak is 2.7 mm

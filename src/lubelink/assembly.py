@@ -23,7 +23,7 @@ from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, event_
                     rhs_with, sustained_force_many, sustained_given, thinnest_given)
 from .params import Config, kernel_view
 
-__all__ = ["Model", "build_model", "compile_failed", "make_params"]
+__all__ = ["Model", "build_model", "compile_failed", "interpreted", "make_params"]
 
 log = logging.getLogger("lubelink")
 
@@ -344,19 +344,26 @@ def build_model(config: Config, motion=None, section=None) -> Model:
         from .spatial_model import build_spatial_model
 
         return build_spatial_model(config, motion, section)
-    motion = SliderCrank(config.mechanism) if motion is None else motion
-    from .spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank
+    if motion is None:
+        motion = SliderCrank(config.mechanism)
+    else:
+        from .spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank
 
-    if isinstance(motion, (SpatialPrescribedMotion, SpatialSliderCrank)):
-        from .validation import ConfigError
+        if isinstance(motion, (SpatialPrescribedMotion, SpatialSliderCrank)):
+            from .validation import ConfigError
 
-        raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' only; "
-                           "set beam.model = 'spatial', or pass a planar motion (lubelink.kinematics)"])
+            raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' "
+                               "only; set beam.model = 'spatial', or pass a planar motion (lubelink.kinematics)"])
     compiled, note = _backend(config, motion)
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
         raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "
                            "slider-crank motion provides")
     return Model(config, motion, make_params(config, motion.table(config.collar.mass), section), compiled, note)
+
+
+def interpreted(model: Model, note: str) -> Model:
+    """The ``numpy``-backend copy of ``model``, ``note`` saying why."""
+    return Model(model.config, model.motion, model.params, False, note)
 
 
 def compile_failed(model: Model, exc: BaseException) -> Model:

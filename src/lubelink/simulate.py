@@ -15,6 +15,7 @@ import numpy as np
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
+from ._prewarm import first_run
 from .assembly import build_model, compile_failed
 from .errors import BackendError
 from .results import to_dataset
@@ -286,6 +287,7 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
         For invalid parameters, before anything is computed.
     """
     config = resolve(source, set)
+    model = first_run(build_model(config, motion, section), motion)
     if progress is True:
         from tqdm.auto import tqdm
 
@@ -295,7 +297,7 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
                 bar.n = t
                 bar.refresh() if bar.n - bar.last_print_n > 0.01 * bar.total else None
 
-            result = run(config, motion, report, section=section)
+            result = run(config, motion, report, model=model)
     else:
-        result = run(config, motion, progress or None, section=section)
+        result = run(config, motion, progress or None, model=model)
     return to_dataset(result)
