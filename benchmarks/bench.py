@@ -14,9 +14,10 @@ Printed, in this order (``benchmarks/README.md`` records a run):
 4. **methods** -- every compiled method at the default tolerances on ``paper`` and ``paper-dry``
    for 1, 3, 7 and 15 modes: time of ``simulate.run``, evaluations, steps, and the largest error of
    ``u2`` (all points, all samples) against a tight DOP853 run (rtol 1e-12, atol 1e-15).
-5. **compile** -- in fresh processes with an empty ``NUMBA_CACHE_DIR``: ``lubelink run`` cold
-   (compiling what the default run needs) and warm, in one process and with the helper process
-   of :mod:`lubelink._prewarm`, and ``lubelink compile`` (every kernel).
+5. **compile** -- in fresh processes with an empty ``NUMBA_CACHE_DIR``: ``lubelink run`` cold and
+   warm, as installed (a first run as Python beside a background compile, and when that compile
+   is done), compiled first with the helper process of :mod:`lubelink._prewarm`, compiled first
+   in one process; and ``lubelink compile`` (every kernel).
 
 ``--compare-with PATH`` also times ``simulate()`` and the compiled right-hand side and gap per call
 (in a compiled loop) with the lubelink of another checkout (``PATH/src``): one warm process per
@@ -276,15 +277,33 @@ def bench_methods(args):
 
 
 # --- 5. compilation -------------------------------------------------------------------------------------
+def _wait_for(pid):
+    """Wait until process ``pid`` has ended (Linux); return the seconds waited."""
+    start = time.perf_counter()
+    while os.path.exists(f"/proc/{pid}"):
+        time.sleep(0.1)
+    return time.perf_counter() - start
+
+
 def bench_compile(args):
-    print("\n5. compilation, each in a fresh process with an empty NUMBA_CACHE_DIR")
-    for label, prewarm in (("one process (LUBELINK_PREWARM=0)", "0"), ("with the helper process", "1")):
+    import re
+
+    print("\n5. a first run, each in fresh processes with an empty NUMBA_CACHE_DIR")
+    variants = (("as installed (Python beside a background compile)", {}),
+                ("compiled first, with the helper process (LUBELINK_FIRST_RUN=compile)", {"LUBELINK_FIRST_RUN": "compile"}),
+                ("compiled first, one process (LUBELINK_PREWARM=0)", {"LUBELINK_PREWARM": "0"}))
+    for label, extra in variants:
         with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as tmp:
-            env = dict(os.environ, NUMBA_CACHE_DIR=cache, LUBELINK_PREWARM=prewarm)
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache, **extra)
             argv = ["run", "-o", f"{tmp}/out.nc", "--overwrite"]
-            cold = lubelink_process(argv, env)
+            start = time.perf_counter()
+            out = subprocess.run([sys.executable, "-m", "lubelink", *argv], check=True, env=env, capture_output=True,
+                                 text=True).stdout
+            cold = time.perf_counter() - start
+            pid = re.search(r"background, pid (\d+)", out)
+            ready = f", compiled kernels ready {cold + _wait_for(int(pid.group(1))):.1f} s after its start" if pid else ""
             warm = lubelink_process(argv, env)
-            print(f"   `lubelink run` cold, {label}: {cold:.1f} s, then warm: {warm:.2f} s", flush=True)
+            print(f"   `lubelink run` cold, {label}: {cold:.1f} s{ready}, then warm: {warm:.2f} s", flush=True)
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         print(f"   `lubelink compile` (every kernel, every method) cold: {lubelink_process(['compile'], env):.1f} s")
