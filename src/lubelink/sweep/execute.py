@@ -318,7 +318,7 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
     queue = _Queue(pending)
     single = deque()  # points of a batch that killed its workers: run again one per task
     active = {}
-    ac = as_completed(with_results=True, raise_errors=False)
+    ac = as_completed(loop=client.loop, with_results=True, raise_errors=False)
     retried = int(done[pending].sum())
     failed = int((done & (status != "complete")).sum()) - retried
     n_done = int(done.sum()) - retried
