@@ -875,8 +875,8 @@ def test_sigterm_stops_a_sweep_like_ctrl_c(client, tmp_path, monkeypatch, capsys
     assert status == 143, err
     assert "lubelink: terminated by SIGTERM;" in err and "run the same command again to resume" in err
     assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
-    # resumed as a user resumes it: a new process (this one took the signal inside Dask's client,
-    # whose state a second client of the same process has been seen to wait on for ever)
+    # resumed as a CLI user resumes it: a new process (resuming in the same process is
+    # test_a_sweep_interrupted_then_called_again_in_the_same_process)
     resumed = subprocess.run([sys.executable, "-m", "lubelink", "sweep", "s.toml", "-q", "--scheduler",
                               client.scheduler.address], cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert resumed.returncode == 0, resumed.stderr
