@@ -5,6 +5,7 @@ and one reference sweep of 48 tiny simulations (0.1 s of motion, 5 output points
 water-like viscosity the film breaks down at the higher crank speeds.
 """
 
+import contextlib
 import json
 import math
 import os
@@ -420,6 +421,165 @@ def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tm
     assert len(starts) > 4  # the killed computation was started again elsewhere
 
 
+
+# ====================================================================== interrupted, then called again in-process
+@contextlib.contextmanager
+def deadline(seconds, what):
+    """Fail the test if the block takes longer than ``seconds`` (a hang fails instead of blocking CI):
+    SIGALRM's handler raises in the main thread, where pytest runs the tests."""
+    assert threading.current_thread() is threading.main_thread()
+
+    def alarm(signum, frame):
+        pytest.fail(f"{what}: still waiting after {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def left_on_scheduler(client, sp, wait=10.0):
+    """Tasks of sweep ``sp`` that the scheduler still means to run (waiting, queued, processing),
+    polled until there are none or ``wait`` [s] has passed."""
+    prefix = f"lubelink-sweep-{sp.hash[:8]}-"
+
+    def running(dask_scheduler, prefix=prefix):
+        return sorted(str(k) for k, ts in dask_scheduler.tasks.items()
+                      if str(k).startswith(prefix) and ts.state in ("waiting", "queued", "processing", "no-worker"))
+
+    end = time.monotonic() + wait
+    while (left := client.run_on_scheduler(running)) and time.monotonic() < end:
+        time.sleep(0.05)
+    return left
+
+
+#: 12 points (more than the first window of tasks on 2 workers, so that it is refilled), 1 mode, dry.
+RECALL = {"base": "paper-dry", "set": {**TINY, "beam.modes": 1},
+          "vary": {"mechanism.crank_speed": [10.0 + 2.5 * i for i in range(12)]}}
+
+
+@on_cluster
+@pytest.mark.parametrize("reach, moment", [(reach, moment) for reach in ("scheduler", "client")
+                                           for moment in ("first submit", "refill", "store write", "waiting")]
+                         + [("workers", "store write")])
+def test_a_sweep_interrupted_then_called_again_in_the_same_process(client, tmp_path, monkeypatch, reach, moment):
+    """Ctrl-C in a notebook, then the same call again: it finishes, computes only the missing points,
+    and the interrupted call leaves no task and no process behind. The sweep reaches Dask with a
+    client of its own (``scheduler=``, as the CLI's --scheduler does), the user's ``client=``, or
+    a LocalCluster of its own (``workers=``); the interruption comes while the first tasks are
+    submitted, while the window is refilled, while a result is stored, or as SIGINT while the
+    client waits for results."""
+    import multiprocessing
+
+    import distributed
+
+    sp = read_sweep(RECALL)
+    store, first, second = tmp_path / "r.zarr", tmp_path / "first.log", tmp_path / "second.log"
+    reach_dask = {"scheduler": {"scheduler": client.scheduler.address}, "client": {"client": client},
+                  "workers": {"workers": 1}}[reach]
+    processes = set(multiprocessing.active_children())
+    interrupt = {"on": False}
+
+    if moment in ("first submit", "refill"):
+        calls, real_map = [], distributed.Client.map
+
+        def map_(self, *args, **kwargs):  # the Ctrl-C comes while the graph of the tasks is made
+            calls.append(1)
+            if interrupt["on"] and len(calls) == (1 if moment == "first submit" else 2):
+                raise KeyboardInterrupt
+            return real_map(self, *args, **kwargs)
+
+        monkeypatch.setattr(distributed.Client, "map", map_)
+    elif moment == "store write":
+        writes, real_write = [], _Store.write
+
+        def write(self, results):  # the Ctrl-C comes just after the second point is stored
+            real_write(self, results)
+            writes.extend(results)
+            if interrupt["on"] and len(writes) >= 2:
+                raise KeyboardInterrupt
+
+        monkeypatch.setattr(_Store, "write", write)
+    else:
+        # points that sleep 0.2 s on the workers (no CPU): the client is waiting when SIGINT comes
+        def slow_points(seconds):
+            from lubelink.sweep import compute
+
+            fast = compute.__dict__.setdefault("_unslowed_simulate_point", compute._simulate_point)
+
+            def slow(config, opts):
+                time.sleep(seconds)
+                return fast(config, opts)
+
+            compute._simulate_point = slow if seconds else fast
+
+        client.run(slow_points, 0.2)
+
+        def ctrl_c(signum, frame):  # Python's SIGINT handler, but a late signal (sweep over) is ignored
+            if interrupt["on"]:
+                raise KeyboardInterrupt
+
+        previous = signal.signal(signal.SIGINT, ctrl_c)
+
+        def press_ctrl_c_after_two_points():
+            end = time.monotonic() + 60
+            while stored(store) < 2 and time.monotonic() < end:
+                time.sleep(0.01)
+            os.kill(os.getpid(), signal.SIGINT)
+
+        presser = threading.Thread(target=press_ctrl_c_after_two_points)
+        presser.start()
+    try:
+        with pytest.raises(KeyboardInterrupt), deadline(120, "the interrupted sweep"):
+            interrupt["on"] = True
+            try:
+                run_sweep(RECALL, store, progress=False, trace=first, **reach_dask)
+            finally:
+                interrupt["on"] = False
+    finally:
+        if moment == "waiting":
+            presser.join()
+            signal.signal(signal.SIGINT, previous)
+            client.run(slow_points, 0.0)
+    assert not left_on_scheduler(client, sp)  # cancelled (user's client) or released with its client
+    assert set(multiprocessing.active_children()) <= processes  # a LocalCluster of its own is closed
+    done_before = set(np.flatnonzero(load_sweep(store).done.values.reshape(-1))) if store.exists() else set()
+    if moment == "first submit":
+        assert not done_before and not store.exists()  # nothing computed: nothing left behind
+    else:
+        assert 2 <= len(done_before) < sp.size, done_before
+
+    with deadline(120, "the sweep called again"):
+        ds = run_sweep(RECALL, store, progress=False, trace=second, **reach_dask)
+    assert bool(ds.done.all()) and (ds.status == "complete").all()
+    again = ends(second)
+    assert len(again) == len(set(again)) and not set(again) & done_before  # stored points not computed again
+    assert set(again) | done_before == set(range(sp.size))
+    runs = json.loads(ds.attrs["runs"])
+    assert runs[-1]["resumed"] == len(done_before) and runs[-1]["computed"] == sp.size - len(done_before)
+
+
+@on_cluster
+def test_a_sweep_gathers_its_results_on_its_own_clients_event_loop(client, tmp_path):
+    """Another client made current in the process (``with Client(...)``), its event loop held up:
+    the sweep, on a client of its own, still finishes. (It used to track and gather its futures on
+    the current client's loop: one CI run waited for ever there, the result held by the scheduler.)"""
+    from distributed import Client
+
+    data = {**RECALL, "vary": {"mechanism.crank_speed": [20.0, 30.0, 40.0]}}
+    gate = threading.Event()
+    with Client(client.scheduler.address) as other:
+        other.loop.add_callback(gate.wait)  # its event loop does nothing until the gate opens
+        try:
+            with deadline(60, "a sweep beside a held-up client"):
+                ds = run_sweep(data, tmp_path / "s.zarr", scheduler=client.scheduler.address, progress=False)
+        finally:
+            gate.set()
+    assert bool(ds.done.all()) and (ds.status == "complete").all()
+
 # ====================================================================== command line
 @on_cluster
 def test_plot_sweep_draws_maps_curves_and_status(reference, tmp_path, capsys):
@@ -715,8 +875,8 @@ def test_sigterm_stops_a_sweep_like_ctrl_c(client, tmp_path, monkeypatch, capsys
     assert status == 143, err
     assert "lubelink: terminated by SIGTERM;" in err and "run the same command again to resume" in err
     assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
-    # resumed as a user resumes it: a new process (this one took the signal inside Dask's client,
-    # whose state a second client of the same process has been seen to wait on for ever)
+    # resumed as a CLI user resumes it: a new process (resuming in the same process is
+    # test_a_sweep_interrupted_then_called_again_in_the_same_process)
     resumed = subprocess.run([sys.executable, "-m", "lubelink", "sweep", "s.toml", "-q", "--scheduler",
                               client.scheduler.address], cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert resumed.returncode == 0, resumed.stderr

@@ -318,7 +318,11 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
     queue = _Queue(pending)
     single = deque()  # points of a batch that killed its workers: run again one per task
     active = {}
-    ac = as_completed(with_results=True, raise_errors=False)
+    # on this client's event loop: by default as_completed waits for (and gathers) the futures on the
+    # loop of the process's default client, which is another client's whenever one was made current
+    # (``with Client() as c``) or started later; asyncio objects used across the two loops' threads
+    # lose wake-ups, and the sweep waits for ever for a result that the scheduler holds
+    ac = as_completed(loop=client.loop, with_results=True, raise_errors=False)
     retried = int(done[pending].sum())
     failed = int((done & (status != "complete")).sum()) - retried
     n_done = int(done.sum()) - retried
@@ -356,11 +360,11 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
     nthreads = threads()
     window = 3 * nthreads + 2
     last_window = time.monotonic()
-    submit(window)
     bar = _bar(progress, sp.size, "sweep", initial=n_done)
     bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
     lost = 0
     try:
+        submit(window)
         for fut, result in ac:
             task = active.pop(fut)
             if fut.status == "finished":
