@@ -261,3 +261,47 @@ def test_pressure_beside_the_other_series_equals_it_computed_in_line(monkeypatch
     with multiprocessing.get_context("fork").Pool(1) as pool:
         peaks = pool.map_async(_pressure_peak, [0]).get(timeout=120)
     assert peaks == [float(threaded.pressure.max())]
+
+
+# ---------------------------------------------------------------- penetration of the collar (restitution law)
+def test_a_penetration_in_a_sustained_contact_is_reported_and_is_real():
+    """``paper-impact`` with 3 modes: a Zeno sequence ends in a sustained contact held at one point
+    while the link goes through the collar face elsewhere on the pad. The warning must name it,
+    and the film computed here from the modal sum on a fine pad grid must confirm it."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = lubelink.simulate("paper-impact", {"beam.modes": 3, "solver.t_end": 1.1})
+    message = ds.attrs["contact_warning"]
+    assert "sustained contact" in message and any(message in str(w.message) for w in caught)
+    cfg = config_of(ds)
+    m, f = cfg.mechanism, cfg.film
+    i = int(np.argmin(ds["film_min"].values))
+    assert f"t = {float(ds.time[i]):.6g} s" in message
+    x0 = float(ds.x_star[i]) - (0.5 * f.pad_length if f.pad_reference == "centre" else 0.0)
+    x = np.linspace(x0, x0 + f.pad_length, 2001)
+    n = np.arange(1, cfg.beam.modes + 1)
+    u2 = np.sin(np.outer(x, n) * np.pi / m.rod_length) @ ds["q"].values[i]
+    film = f.clearance / 2 - u2  # the film H/2 - u2 of the watched face
+    assert film.min() < 0.9 * cfg.contact.min_film
+    assert film.min() == pytest.approx(float(ds["film_min"][i]), abs=1e-8)
+
+
+def test_no_warning_when_the_film_stays_above_the_contact_threshold():
+    ds = lubelink.simulate("paper-impact")
+    assert ds.attrs["impact_count"] > 0 and ds.attrs["contact_warning"] == ""
+    assert float(ds["film_min"].min()) >= 0.9 * config_of(ds).contact.min_film
+
+
+def test_the_penetration_message_says_where_and_when():
+    from lubelink.results import penetration
+
+    t = np.arange(5.0)
+    ok = np.array([9e-6, 5e-6, 4.6e-6, 6e-6, 7e-6])  # 4.6 um: within 10 % of min_film = 5 um
+    assert penetration(t, ok, np.zeros(5), 5e-6) == ""
+    held = np.array([9e-6, 4e-6, -2e-6, 6e-6, 7e-6])
+    side = np.array([0, 1, 1, 0, 0])
+    text = penetration(t, held, side, 5e-6)
+    assert "to -2e-06 m at t = 2 s (first at t = 1 s, 2 samples), during a sustained contact" in text
+    assert "partly in free flight" in penetration(t, held, np.zeros(5), 5e-6)

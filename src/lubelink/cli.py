@@ -156,6 +156,8 @@ def _summary(r, source, path, wall):
     n_imp = int(a["impact_count"])
     times = ", ".join(f"{t:.4f}" for t in r["impact_time"][:5]) + (" ..." if n_imp > 5 else "")
     rows.append(("impacts", f"{n_imp}" + (f" (t = {times} s)" if n_imp else "")))
+    if a.get("contact_warning"):
+        rows.append(("warning", a["contact_warning"]))
     backend = a["backend"] + (f" ({a['backend_note']})" if a["backend_note"] else "")
     rows.append(("solver", f"{a['solver_method']}, {a['nsteps']} steps, {a['nfev']} right-hand-side evaluations, "
                            f"backend {backend}"))

@@ -300,4 +300,9 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
             result = run(config, motion, report, model=model)
     else:
         result = run(config, motion, progress or None, model=model)
-    return to_dataset(result)
+    ds = to_dataset(result)
+    if ds.attrs["contact_warning"]:
+        import warnings
+
+        warnings.warn(f"lubelink: {ds.attrs['contact_warning']}", RuntimeWarning, stacklevel=2)
+    return ds
