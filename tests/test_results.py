@@ -305,3 +305,17 @@ def test_the_penetration_message_says_where_and_when():
     text = penetration(t, held, side, 5e-6)
     assert "to -2e-06 m at t = 2 s (first at t = 1 s, 2 samples), during a sustained contact" in text
     assert "partly in free flight" in penetration(t, held, np.zeros(5), 5e-6)
+
+
+def test_a_sweep_point_records_the_penetration_even_without_storing_the_film():
+    """A sweep point computes only what it stores; the penetration check runs regardless, and the
+    point's record carries it as its message."""
+    from lubelink.config import resolve
+    from lubelink.results import collect
+    from lubelink.simulate import run
+    from lubelink.sweep.compute import summarise
+
+    r = collect(run(resolve("paper-impact", {"beam.modes": 3, "solver.t_end": 1.1})), variables={"u2_mid"})
+    assert "film_min" not in r.data_vars
+    record = summarise(r, ("peak_u2_mid",))
+    assert record["status"] == "complete" and "went through the collar face" in record["message"]

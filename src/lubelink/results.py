@@ -263,8 +263,11 @@ def collect(result, variables=None) -> Results:
         if "film_force" in want:
             force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
             data["film_force"] = _entry("film_force", force)
-    if (fm.enabled or cfg.contact.law != "none") and "film_min" in want:
-        data["film_min"] = _entry("film_min", _select(thinnest_many, compiled)(x_star, y, p))
+    film_min = None  # (the restitution law's penetration check needs it even when it is not stored)
+    if (fm.enabled or cfg.contact.law != "none") and ("film_min" in want or cfg.contact.law == "restitution"):
+        film_min = _select(thinnest_many, compiled)(x_star, y, p)
+        if "film_min" in want:
+            data["film_min"] = _entry("film_min", film_min)
     if fm.roughness > 0.0 and "asperity_force" in want:
         from .film.asperity import asperity_force_many
 
@@ -294,9 +297,9 @@ def collect(result, variables=None) -> Results:
     warning = ""
     if cfg.contact.law == "restitution":
         side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
-        for name in ("film_min", "film_min_u3"):
-            if name in data and not warning:
-                warning = penetration(t, data[name][1], side, cfg.contact.min_film)
+        for film_min in (film_min, data["film_min_u3"][1] if "film_min_u3" in data else None):
+            if film_min is not None and not warning:
+                warning = penetration(t, film_min, side, cfg.contact.min_film)
     version, libs = versions()
     attrs = {
         "Conventions": CONVENTIONS,
@@ -347,10 +350,10 @@ def penetration(t, film_min, side, min_film) -> str:
     held = np.asarray(side)[below] != 0
     where = ("during a sustained contact, which holds the link at the one point where it began "
              "(docs/model.md 5.3)" if held.all() else "partly in free flight")
-    first = int(np.argmax(below))
+    first, n = int(np.argmax(below)), int(below.sum())
     return (f"the thinnest film fell below contact.min_film = {min_film:.3g} m, to {film_min[i]:.3g} m at "
-            f"t = {t[i]:.6g} s (first at t = {t[first]:.6g} s, {int(below.sum())} sample{'s' if below.sum() > 1 else ''}), {where}: the "
-            "link went through the collar face, and the results from there on are not physical; "
+            f"t = {t[i]:.6g} s (first at t = {t[first]:.6g} s, {n} sample{'s' if n > 1 else ''}), {where}: "
+            "the link went through the collar face, and the results from there on are not physical; "
             "contact.law = 'compliant' follows the thinnest point")
 
 

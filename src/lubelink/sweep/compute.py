@@ -25,7 +25,8 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
     """Summary quantities of one results Dataset (:func:`lubelink.simulate`) or
     :class:`lubelink.results.Results`.
 
-    Returns ``{name: value}`` with ``status``, ``message`` and ``wall_time``
+    Returns ``{name: value}`` with ``status``, ``message`` (the run's, then its
+    ``contact_warning`` if any: :func:`lubelink.results.penetration`) and ``wall_time``
     [s] and each of ``quantities`` (see :data:`QUANTITIES` for units):
     floats (NaN when the quantity does not exist for this run, e.g. the film
     pressure of a dry joint), integers, and for ``impact_times`` a list of
@@ -54,7 +55,9 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
         "impact_times": lambda: [float(t) for t in times[:max_impacts]]
                                 + [math.nan] * (max_impacts - min(len(times), max_impacts)),
     }
-    out = {"status": str(ds.attrs.get("status", "complete")), "message": str(ds.attrs.get("message", "")),
+    message, warning = str(ds.attrs.get("message", "")), str(ds.attrs.get("contact_warning", ""))
+    out = {"status": str(ds.attrs.get("status", "complete")),
+           "message": f"{message}; {warning}" if message and warning else message or warning,
            "wall_time": float(ds.attrs.get("wall_time", math.nan))}
     for name in quantities:
         out[name] = compute[name]()

@@ -42,7 +42,7 @@ DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times"
 ALWAYS = {
     "status": ("1", "outcome: complete, film_breakdown, chatter, solver_failure, timeout, out_of_domain, "
                     "error, worker_died or invalid"),
-    "message": ("1", "why the point ended (the error for a failed point)"),
+    "message": ("1", "why the point ended (the error for a failed point), then a penetration of the collar face"),
     "wall_time": ("s", "wall-clock time of the simulation on its worker"),
 }
 #: Time series that ``[store] time_series`` may keep: name -> extra dimension
