@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 import lubelink
-from lubelink.results import atomic_path
+from lubelink._files import atomic_path
 
 #: A light oil and a small clearance: the full film no longer keeps the link off the collar's
 #: asperities (mixed lubrication).

@@ -18,7 +18,7 @@ import numpy as np
 
 import lubelink
 from lubelink.kinematics import slider_crank
-from lubelink.results import save
+from lubelink.netcdf import save
 
 ZETA = 0.01
 SPEEDS = (5.0, 60.0)

@@ -190,7 +190,7 @@ def test_an_output_that_appears_during_the_run_is_kept_and_the_results_go_beside
 def test_a_failing_final_write_keeps_the_results_elsewhere(tmp_path, monkeypatch, capsys):
     import lubelink.results
 
-    real = lubelink.results.write
+    real = lubelink.netcdf.write
     target = tmp_path / "sub" / "r.nc"
     target.parent.mkdir()
 
@@ -199,7 +199,7 @@ def test_a_failing_final_write_keeps_the_results_elsewhere(tmp_path, monkeypatch
             raise OSError(28, "No space left on device")
         return real(results, path, overwrite=overwrite)
 
-    monkeypatch.setattr(lubelink.results, "write", write)
+    monkeypatch.setattr(lubelink.netcdf, "write", write)
     status, out = run_in_process(["run", "-q", *SHORT_ARGS, "-o", str(target)], tmp_path, monkeypatch, capsys)
     assert status == 1
     kept = [p for p in tmp_path.iterdir() if p.name.startswith("r.unsaved-")]

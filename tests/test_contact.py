@@ -117,3 +117,16 @@ def test_an_edge_impact_can_give_the_link_energy():
     gain = modal_kinetic(after, mass) - modal_kinetic(q_dot, mass)
     assert gain > 0 > -contact.impact_energy_loss(v, x_c, e, N, mass, L)
     assert contact.impact_energy_change(v, v, x_c, e, N, mass, L) == pytest.approx(gain, rel=1e-12)
+
+
+def test_the_penetration_message_says_where_and_when():
+    from lubelink.contact import penetration
+
+    t = np.arange(5.0)
+    ok = np.array([9e-6, 5e-6, 4.6e-6, 6e-6, 7e-6])  # 4.6 um: within 10 % of min_film = 5 um
+    assert penetration(t, ok, np.zeros(5), 5e-6) == ""
+    held = np.array([9e-6, 4e-6, -2e-6, 6e-6, 7e-6])
+    side = np.array([0, 1, 1, 0, 0])
+    text = penetration(t, held, side, 5e-6)
+    assert "to -2e-06 m at t = 2 s (first at t = 1 s, 2 samples), during a sustained contact" in text
+    assert "partly in free flight" in penetration(t, held, np.zeros(5), 5e-6)

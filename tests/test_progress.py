@@ -107,19 +107,19 @@ def _read_all(fd, sink):
 def test_on_a_terminal_every_phase_shows_and_the_summary_stays_clean(tmp_path, monkeypatch, capsys):
     """``lubelink run`` with a pseudo-terminal as stderr: the phases of the run, the write among
     them (made slow here), then the line erased; the summary on stdout has no trace of it."""
-    from lubelink import cli, results
+    from lubelink import cli, netcdf
 
     master, slave = pty.openpty()
     chunks = []
     reader = threading.Thread(target=_read_all, args=(master, chunks), daemon=True)
     reader.start()
-    real_write = results.write
+    real_write = netcdf.write
 
     def slow_write(*args, **kwargs):
         time.sleep(0.6)
         return real_write(*args, **kwargs)
 
-    monkeypatch.setattr(results, "write", slow_write)
+    monkeypatch.setattr(netcdf, "write", slow_write)
     monkeypatch.setattr(cli, "PROGRESS_DELAY", 0.0)
     with os.fdopen(slave, "w", closefd=True) as tty:
         monkeypatch.setattr(sys, "stderr", tty)

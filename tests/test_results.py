@@ -1,11 +1,10 @@
-"""Results dataset: contents, units, provenance, atomic save, versioned load."""
+"""Results: the registry of variables, their contents and units, the series of a run, its warnings."""
 
 import numpy as np
 import pytest
-import xarray as xr
 
 import lubelink
-from lubelink.results import ResultsFileError, config_of
+from lubelink.netcdf import config_of
 
 
 @pytest.fixture(scope="module")
@@ -29,62 +28,6 @@ def test_layout_units_and_provenance(ds):
     np.testing.assert_allclose(ds.u2.isel(x=10), ds.u2_mid, atol=1e-15)
 
 
-def test_save_load_round_trip(ds, tmp_path):
-    path = lubelink.save(ds, tmp_path / "r.nc")
-    back = lubelink.load(path)
-    # the file names the netCDF-C and HDF5 libraries that wrote it, after the packages of the run
-    assert back.attrs["versions"].startswith(ds.attrs["versions"] + ", netCDF-C ")
-    back.attrs["versions"] = ds.attrs["versions"]
-    xr.testing.assert_identical(back, ds)
-    with pytest.raises(ResultsFileError, match="exists"):
-        lubelink.save(ds, path)
-    lubelink.save(ds, path, overwrite=True)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc"]
-
-
-def test_failed_write_leaves_nothing(ds, tmp_path, monkeypatch):
-    def boom(self, *a, **k):
-        raise OSError("disk full")
-
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", boom)
-    with pytest.raises(OSError):
-        lubelink.save(ds, tmp_path / "r.nc")
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_load_rejects_foreign_files(tmp_path):
-    other = tmp_path / "other.nc"
-    xr.Dataset({"a": ("t", [1.0])}).to_netcdf(other)
-    with pytest.raises(ResultsFileError, match="format missing"):
-        lubelink.load(other)
-    junk = tmp_path / "junk.nc"
-    junk.write_text("not netcdf")
-    with pytest.raises(ResultsFileError, match="not a readable"):
-        lubelink.load(junk)
-    with pytest.raises(ResultsFileError, match="no such"):
-        lubelink.load(tmp_path / "none.nc")
-
-
-def test_config_of_a_foreign_dataset_is_a_clear_error(ds):
-    with pytest.raises(ResultsFileError, match="no 'config' attribute"):
-        config_of(xr.Dataset({"a": ("t", [1.0])}))
-    with pytest.raises(ResultsFileError, match="not valid TOML"):
-        config_of(xr.Dataset(attrs={"config": "[beam\nmodes"}))
-
-
-def test_save_refuses_other_suffixes_and_special_files(ds, tmp_path):
-    import os
-
-    with pytest.raises(ResultsFileError, match=r"name the file \*.nc"):
-        lubelink.save(ds, tmp_path / "r.zarr")
-    (tmp_path / "d.nc").mkdir()
-    os.mkfifo(tmp_path / "p.nc")
-    for name in ("d.nc", "p.nc"):
-        with pytest.raises(ResultsFileError, match="only a regular file"):
-            lubelink.save(ds, tmp_path / name, overwrite=True)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nc", "p.nc"]
-
-
 def test_collect_computes_only_the_variables_asked_for():
     from lubelink.results import collect
     from lubelink.simulate import run
@@ -98,119 +41,6 @@ def test_collect_computes_only_the_variables_asked_for():
 
 
 # ====================================================================== issue 16 item 9: NetCDF conventions
-@pytest.fixture(scope="module")
-def impact_results():
-    """Results of a run with impacts (two-sided collar), before they become a Dataset."""
-    from lubelink.results import collect
-    from lubelink.simulate import run
-
-    config = lubelink.resolve_config("paper-impact", {"solver.t_end": 1.3, "film.sides": 2})
-    r = collect(run(config))
-    assert r.attrs["impact_count"] > 0
-    return r
-
-
-def _both_writers(results, folder):
-    """The same results written by the CLI's netCDF4 writer and by :func:`lubelink.save` (xarray)."""
-    from lubelink.results import write
-
-    a = write(results, folder / "netcdf4.nc")
-    b = lubelink.save(xr.Dataset(results.data_vars, coords=results.coords, attrs=results.attrs), folder / "xarray.nc")
-    return a, b
-
-
-def test_both_writers_write_the_same_file(impact_results, tmp_path):
-    """Variables, dtypes, attributes, compression and global attributes agree, read with netCDF4."""
-    import netCDF4
-
-    a, b = _both_writers(impact_results, tmp_path)
-    with netCDF4.Dataset(a) as fa, netCDF4.Dataset(b) as fb:
-        assert list(fa.dimensions) and {d: len(v) for d, v in fa.dimensions.items()} == \
-            {d: len(v) for d, v in fb.dimensions.items()}
-        assert set(fa.variables) == set(fb.variables)
-        for name, va in fa.variables.items():
-            vb = fb.variables[name]
-            assert va.dimensions == vb.dimensions and va.dtype == vb.dtype, name
-            assert set(va.ncattrs()) == set(vb.ncattrs()), name
-            for attr in va.ncattrs():
-                np.testing.assert_array_equal(va.getncattr(attr), vb.getncattr(attr), err_msg=f"{name}.{attr}")
-            fa_, fb_ = va.filters(), vb.filters()
-            assert fa_ == fb_, name
-            if va.size:
-                assert fa_["zlib"] and 1 <= fa_["complevel"] <= 4, name
-                np.testing.assert_array_equal(va[...], vb[...], err_msg=name)
-        assert fa.ncattrs() == fb.ncattrs()
-        for attr in fa.ncattrs():
-            assert fa.getncattr(attr) == fb.getncattr(attr), attr
-
-
-def test_compression_shrinks_the_file(impact_results, tmp_path):
-    """Lossless zlib (level 2, with the shuffle filter) shrinks a results file: by 10 % here, by
-    20 % on the paper scenario's 2 s (float64 samples do not compress to half without losing digits)."""
-    import netCDF4
-
-    from lubelink.results import file_attrs
-
-    a, _ = _both_writers(impact_results, tmp_path)
-    plain = tmp_path / "plain.nc"
-    with netCDF4.Dataset(plain, "w") as nc:
-        for dims, data, _ in list(impact_results.coords.values()) + list(impact_results.data_vars.values()):
-            for dim, n in zip(dims, np.shape(data)):
-                if dim not in nc.dimensions:
-                    nc.createDimension(dim, n)
-        for name, (dims, data, attrs) in list(impact_results.coords.items()) + list(impact_results.data_vars.items()):
-            var = nc.createVariable(name, np.asarray(data).dtype, dims)
-            var.setncatts(attrs)
-            if np.size(data):
-                var[...] = data
-        nc.setncatts(file_attrs(impact_results.attrs))
-    assert a.stat().st_size < 0.95 * plain.stat().st_size
-
-
-#: A CF variable name (CF 2.3) and a flag meaning (CF 3.5: blank-separated words of these characters).
-CF_NAME = r"[A-Za-z][A-Za-z0-9_]*"
-CF_FLAG_WORD = r"[A-Za-z0-9_.+@-]+"
-
-
-def test_files_follow_the_cf_conventions(impact_results, tmp_path):
-    """The CF attributes that matter here, checked on both writers' files: Conventions, units that
-    UDUNITS-2 parses (cf-units, which bundles it), long names, flag variables whose values are
-    unique, of the variable's type, one per meaning and cover the data, and the run's provenance
-    (wall time with its units, the versions of the numerical and NetCDF libraries)."""
-    import re
-
-    import netCDF4
-
-    cf_units = pytest.importorskip("cf_units")
-    for path in _both_writers(impact_results, tmp_path):
-        with netCDF4.Dataset(path) as nc:
-            assert nc.Conventions == "CF-1.10"
-            for attr in ("title", "source", "references"):
-                assert getattr(nc, attr)
-            assert isinstance(nc.wall_time, float) and nc.wall_time > 0
-            assert cf_units.Unit(nc.wall_time_units) == cf_units.Unit("second")
-            versions = nc.versions
-            for package in ("numpy", "scipy", "numba", "netCDF4", "netCDF-C", "HDF5"):
-                assert re.search(rf"\b{re.escape(package)} \d", versions), (package, versions)
-            flags = 0
-            for name, var in nc.variables.items():
-                assert re.fullmatch(CF_NAME, name), name
-                assert var.long_name, name
-                unit = cf_units.Unit(var.units)  # raises for a string UDUNITS-2 cannot parse
-                assert not unit.is_unknown(), (name, var.units)
-                assert "standard_name" not in var.ncattrs()  # none used: no table to check them against
-                if "flag_values" in var.ncattrs() or "flag_meanings" in var.ncattrs():
-                    flags += 1
-                    values = np.atleast_1d(var.flag_values)
-                    words = var.flag_meanings.split(" ")
-                    assert all(re.fullmatch(CF_FLAG_WORD, w) for w in words), words
-                    assert values.dtype == var.dtype and len(set(values.tolist())) == values.size == len(words)
-                    data = np.asarray(var[...])
-                    assert set(data.tolist()) <= set(values.tolist()), name
-            assert flags == 2  # impact_side, contact_phase
-            assert nc["impact_side"].size > 0  # the flags were checked against data
-
-
 def test_units_of_the_registry_are_dimensionally_right():
     """Each unit string of VARIABLES has the dimension its name implies (cf-units)."""
     cf_units = pytest.importorskip("cf_units")
@@ -221,22 +51,6 @@ def test_units_of_the_registry_are_dimensionally_right():
     for name, v in VARIABLES.items():
         assert v.units in kinds, (name, v.units)
         assert cf_units.Unit(v.units).is_convertible(cf_units.Unit(kinds[v.units])), name
-
-
-@pytest.mark.parametrize("umask", [0o022, 0o077])
-def test_both_writers_honour_the_umask(impact_results, tmp_path, umask):
-    """Issue 16 item 4: the mode of a new results file is what the umask asks, whichever writer."""
-    import os
-    import stat
-
-    old = os.umask(umask)
-    try:
-        paths = _both_writers(impact_results, tmp_path)
-    finally:
-        os.umask(old)
-    for path in paths:
-        assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask, path
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["netcdf4.nc", "xarray.nc"]  # no temporary left
 
 
 def _pressure_peak(_):
@@ -292,19 +106,6 @@ def test_no_warning_when_the_film_stays_above_the_contact_threshold():
     ds = lubelink.simulate("paper-impact")
     assert ds.attrs["impact_count"] > 0 and ds.attrs["contact_warning"] == ""
     assert float(ds["film_min"].min()) >= 0.9 * config_of(ds).contact.min_film
-
-
-def test_the_penetration_message_says_where_and_when():
-    from lubelink.results import penetration
-
-    t = np.arange(5.0)
-    ok = np.array([9e-6, 5e-6, 4.6e-6, 6e-6, 7e-6])  # 4.6 um: within 10 % of min_film = 5 um
-    assert penetration(t, ok, np.zeros(5), 5e-6) == ""
-    held = np.array([9e-6, 4e-6, -2e-6, 6e-6, 7e-6])
-    side = np.array([0, 1, 1, 0, 0])
-    text = penetration(t, held, side, 5e-6)
-    assert "to -2e-06 m at t = 2 s (first at t = 1 s, 2 samples), during a sustained contact" in text
-    assert "partly in free flight" in penetration(t, held, np.zeros(5), 5e-6)
 
 
 def test_a_sweep_point_records_the_penetration_even_without_storing_the_film():

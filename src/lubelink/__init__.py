@@ -13,11 +13,12 @@ module             job
 ``kinematics``     prescribed rigid motion (slider-crank, user motion)
 ``beam``           sine modes, frequencies, modal loads, deflection
 ``film``           Reynolds film pressure and modal film force
-``contact``        film breakdown, restitution impact
+``contact``        film breakdown, restitution impact, penetration check
 ``model``          the modal ODE right-hand side
 ``integrate``      step driver, Bulirsch-Stoer
 ``simulate``       orchestrator: configuration -> Dataset
-``results``        NetCDF save/load
+``results``        the variable registry, a run's results (Dataset)
+``netcdf``         results files: write, save, load
 ``paper``          the paper's figures, Fig. 9 calibration, animation
 ``plots``          plotting functions on result Datasets
 ``sweep``          parameter sweeps on Dask, resumable stores
@@ -28,7 +29,7 @@ module             job
 
 from .config import ConfigError, SCENARIOS, load as load_config, resolve as resolve_config
 from .params import Beam, Collar, Config, Contact, Film, Mechanism, Output, Solver
-from .results import ResultsFileError, load, save
+from .netcdf import ResultsFileError, load, save
 from .simulate import simulate
 
 #: Names served by their subpackage on first use (``lubelink run`` does not import them).

@@ -202,7 +202,7 @@ def _write_results(results, path, overwrite):
     import tempfile
 
     from ._files import fallback_path
-    from .results import write
+    from .netcdf import write
 
     import os
 
@@ -231,7 +231,7 @@ def _write_results(results, path, overwrite):
 
 
 def _reason(exc):
-    from .results import ResultsFileError
+    from .netcdf import ResultsFileError
 
     if isinstance(exc, ResultsFileError):
         return str(exc)
@@ -255,7 +255,8 @@ def _cmd_run(args):
 
     from ._prewarm import first_run
     from .assembly import build_model
-    from .results import EXISTS, collect, output_problem
+    from .netcdf import EXISTS, output_problem
+    from .results import collect
     from .simulate import run
 
     began = time.perf_counter()

@@ -342,6 +342,34 @@ def compliant_force(q, q_dot, x0, V_r, f, c, pad, rod_length, side, v_minus, F):
     return force
 
 
+#: A thinnest film this far below ``contact.min_film`` [-, of ``min_film``] under the restitution law is a penetration.
+PENETRATION = 0.1
+
+
+def penetration(t, film_min, side, min_film) -> str:
+    """What a restitution run's samples say of a penetration of the collar ("" when none).
+
+    The restitution law keeps the film at or above ``min_film`` [m]: at an impact, and in a
+    sustained contact at the one point where it began. A sample more than :data:`PENETRATION`
+    ``min_film`` thinner means the link went through the collar face elsewhere (sustained
+    contact, ``side`` non-zero: a known limitation, docs/model.md 5.3) or between two samples of
+    the gap (free flight).
+    """
+    film_min = np.asarray(film_min)
+    below = film_min < (1.0 - PENETRATION) * min_film
+    if not below.any():
+        return ""
+    i = int(np.argmin(np.where(below, film_min, np.inf)))
+    held = np.asarray(side)[below] != 0
+    where = ("during a sustained contact, which holds the link at the one point where it began "
+             "(docs/model.md 5.3)" if held.all() else "partly in free flight")
+    first, n = int(np.argmax(below)), int(below.sum())
+    return (f"the thinnest film fell below contact.min_film = {min_film:.3g} m, to {film_min[i]:.3g} m at "
+            f"t = {t[i]:.6g} s (first at t = {t[first]:.6g} s, {n} sample{'s' if n > 1 else ''}), {where}: "
+            "the link went through the collar face, and the results from there on are not physical; "
+            "contact.law = 'compliant' follows the thinnest point")
+
+
 @dataclass
 class ContactLogic:
     """What happens at a zero of the event: the contact law's response, and the record of impacts.

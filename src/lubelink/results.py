@@ -1,10 +1,11 @@
-"""Results as an :class:`xarray.Dataset`: the variable registry, assembly, NetCDF save and load.
+"""Results as an :class:`xarray.Dataset`: the variable registry and the assembly of a run's results.
 
 Every variable is declared once in :data:`VARIABLES` (dimensions, units, long name): the Dataset,
 the sweep store and the plots read it there. :func:`to_dataset` computes the film force,
 pressure and thinnest film of the samples with the functions the right-hand side and the gap
 used, batched in compiled code. The dataset's attrs hold the run status, solver statistics,
 versions and the full configuration as TOML text, enough to re-run it (:func:`config_of`).
+Files: :mod:`lubelink.netcdf` (its functions are also found here).
 """
 
 from __future__ import annotations
@@ -12,18 +13,18 @@ from __future__ import annotations
 import os
 import platform
 import time
-from contextlib import contextmanager
 from functools import lru_cache
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
-from ._files import atomic_path, read_netcdf, target_problem
+from ._files import atomic_path  # noqa: F401 - found here too
+from .netcdf import (EXISTS, FORMAT_VERSION, NETCDF_SUFFIXES, ResultsFileError, config_of, file_attrs,
+                     library_versions, load, output_problem, save, write)
 
 __all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "to_dataset", "write", "save", "load",
            "config_of", "atomic_path", "ResultsFileError", "versions", "output_problem", "NETCDF_SUFFIXES",
-           "CONVENTIONS", "VARIABLE_ATTRS", "file_attrs", "library_versions"]
+           "CONVENTIONS", "VARIABLE_ATTRS", "file_attrs", "library_versions", "EXISTS"]
 
 
 class Variable(NamedTuple):
@@ -92,17 +93,11 @@ VARIABLE_ATTRS = {
 #: The CF conventions the results files follow (global attribute ``Conventions``).
 CONVENTIONS = "CF-1.10"
 
-#: Version of the results layout; :func:`load` refuses other major versions.
-FORMAT_VERSION = "1.0"
 
 #: Gauss-Legendre nodes per piece between two ``X`` of the pad pressure. The film is a sum of
 #: sines of wavelength ``2 L / N`` much longer than a piece, so 4 nodes (exact to degree 7) leave
 #: the pressure within rounding (1e-8 of its peak) of 16 nodes on the paper's runs.
 PRESSURE_NODES = 4
-
-
-class ResultsFileError(ValueError):
-    """A results file that cannot be written or read as lubelink results."""
 
 
 def variable(dims, data, units, long_name, **attrs):
@@ -202,7 +197,7 @@ def collect(result, variables=None) -> Results:
     ``V_r``, ``omega_n`` and the impacts always come (they cost nothing). A sweep point asks only
     for what it summarises and stores.
     """
-    from . import beam, film
+    from . import beam, contact, film
     from .config import to_toml
     from .model import thinnest_many
 
@@ -299,7 +294,7 @@ def collect(result, variables=None) -> Results:
         side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
         for film_min in (film_min, data["film_min_u3"][1] if "film_min_u3" in data else None):
             if film_min is not None and not warning:
-                warning = penetration(t, film_min, side, cfg.contact.min_film)
+                warning = contact.penetration(t, film_min, side, cfg.contact.min_film)
     version, libs = versions()
     attrs = {
         "Conventions": CONVENTIONS,
@@ -327,34 +322,6 @@ def collect(result, variables=None) -> Results:
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
-
-
-#: A thinnest film this far below ``contact.min_film`` [-, of ``min_film``] under the restitution law is a penetration.
-PENETRATION = 0.1
-
-
-def penetration(t, film_min, side, min_film) -> str:
-    """What a restitution run's samples say of a penetration of the collar ("" when none).
-
-    The restitution law keeps the film at or above ``min_film`` [m]: at an impact, and in a
-    sustained contact at the one point where it began. A sample more than :data:`PENETRATION`
-    ``min_film`` thinner means the link went through the collar face elsewhere (sustained
-    contact, ``side`` non-zero: a known limitation, docs/model.md 5.3) or between two samples of
-    the gap (free flight).
-    """
-    film_min = np.asarray(film_min)
-    below = film_min < (1.0 - PENETRATION) * min_film
-    if not below.any():
-        return ""
-    i = int(np.argmin(np.where(below, film_min, np.inf)))
-    held = np.asarray(side)[below] != 0
-    where = ("during a sustained contact, which holds the link at the one point where it began "
-             "(docs/model.md 5.3)" if held.all() else "partly in free flight")
-    first, n = int(np.argmax(below)), int(below.sum())
-    return (f"the thinnest film fell below contact.min_film = {min_film:.3g} m, to {film_min[i]:.3g} m at "
-            f"t = {t[i]:.6g} s (first at t = {t[first]:.6g} s, {n} sample{'s' if n > 1 else ''}), {where}: "
-            "the link went through the collar face, and the results from there on are not physical; "
-            "contact.law = 'compliant' follows the thinnest point")
 
 
 def _u3_faces(model, want, y_state, x_star, V_r):
@@ -391,145 +358,3 @@ def _contact_force(result, model, t, y, side):
         for i in inside:
             force[i] = model.contact_force(t[i], y[i], (side[i], result.phase_v[i]))[1]
     return force
-
-
-#: zlib level of every variable in a results file (level 1-4 halve the file; higher gains little).
-COMPRESSION = 2
-
-
-def library_versions():
-    """The netCDF-C and HDF5 library versions behind netCDF4 (imported here: only writers ask)."""
-    import netCDF4
-
-    return f"netCDF-C {netCDF4.__netcdf4libversion__}, HDF5 {netCDF4.__hdf5libversion__}"
-
-
-def file_attrs(attrs):
-    """The global attributes of a results file: ``attrs`` with the netCDF-C and HDF5 versions
-    added to ``versions`` and booleans as integers (NetCDF has no boolean type)."""
-    out = {k: (int(v) if isinstance(v, (bool, np.bool_)) else v) for k, v in attrs.items()}
-    libs = library_versions()
-    if "versions" in out and libs not in str(out["versions"]):
-        out["versions"] = f"{out['versions']}, {libs}"
-    return out
-
-
-def write(results: Results, path, overwrite=False):
-    """Write :class:`Results` to NetCDF-4 at ``path`` atomically, with netCDF4 (no xarray import).
-
-    The file is what :func:`save` would write of :func:`to_dataset`: :func:`load` reads it back.
-    """
-    import netCDF4
-
-    path = _checked_target(path, overwrite)
-    with _publishing(path, overwrite) as tmp:
-        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
-            sizes = {}
-            for dims, data, _ in list(results.coords.values()) + list(results.data_vars.values()):
-                for dim, n in zip(dims, np.shape(data)):
-                    sizes[dim] = n
-            for dim, n in sizes.items():
-                nc.createDimension(dim, n)
-            for name, (dims, data, attrs) in list(results.coords.items()) + list(results.data_vars.items()):
-                data = np.asarray(data)
-                var = nc.createVariable(name, data.dtype, dims, zlib=bool(data.size), complevel=COMPRESSION)
-                var.setncatts(attrs)
-                if data.size:
-                    var[...] = data
-            nc.setncatts(file_attrs(results.attrs))
-    return path
-
-
-#: File name suffixes of results files (NetCDF); any other is refused rather than silently written as NetCDF.
-NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
-#: :func:`output_problem` of a target that exists (when replacing it was not asked for).
-EXISTS = "the file exists"
-
-
-def output_problem(path, overwrite=False):
-    """Why results could not be written at ``path``, or None; checked before a run, so that a
-    run is not lost at the end: a NetCDF suffix, an existing file only with ``overwrite`` and only
-    a regular file, a writable folder (:func:`lubelink._files.target_problem`)."""
-    path = Path(path)
-    if path.suffix.lower() not in NETCDF_SUFFIXES:
-        return (f"results are written as NetCDF; name the file *.nc (e.g. {path.with_suffix('.nc').name})"
-                if path.suffix else f"results are written as NetCDF; name the file {path.name}.nc")
-    if os.path.lexists(path) and not overwrite:
-        return EXISTS
-    return target_problem(path)
-
-
-def _checked_target(path, overwrite):
-    path = Path(path)
-    problem = output_problem(path, overwrite)
-    if problem == EXISTS:
-        raise ResultsFileError(f"{path} exists; pass overwrite=True (--overwrite) to replace it")
-    if problem:
-        raise ResultsFileError(f"{path}: {problem}")
-    return path
-
-
-@contextmanager
-def _publishing(path, overwrite):
-    """:func:`atomic_path`, its refusals as :class:`ResultsFileError` (a file that appeared at
-    ``path`` since the check, or that is not a regular file)."""
-    try:
-        with atomic_path(path, overwrite=overwrite) as tmp:
-            yield tmp
-    except FileExistsError:
-        raise ResultsFileError(f"{path} appeared while the results were computed; it was not replaced "
-                               "(pass overwrite=True, --overwrite, to replace it)") from None
-    except IsADirectoryError as exc:
-        raise ResultsFileError(f"{path}: {exc.strerror}") from None
-
-
-def save(dataset, path, overwrite=False):
-    """Write ``dataset`` to NetCDF at ``path`` atomically (:func:`atomic_path`).
-
-    Raises
-    ------
-    ResultsFileError
-        If ``path`` exists and ``overwrite`` is false (also when it appears while writing), is not
-        a regular file, does not end in ``.nc`` (:data:`NETCDF_SUFFIXES`), or its folder is missing
-        or not writable.
-    """
-    path = _checked_target(path, overwrite)
-    encoding = {name: {"zlib": bool(v.size), "complevel": COMPRESSION, "_FillValue": None}
-                for name, v in dataset.variables.items()}
-    dataset = dataset.copy(deep=False)
-    dataset.attrs = file_attrs(dataset.attrs)
-    with _publishing(path, overwrite) as tmp:
-        dataset.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
-    return path
-
-
-def load(path):
-    """Read a results file written by :func:`save`, checking its format version."""
-    path = Path(path)
-    ds = read_netcdf(path, "results file", ResultsFileError)
-    version = str(ds.attrs.get("lubelink_format", ""))
-    if version.split(".")[0] != FORMAT_VERSION.split(".")[0]:
-        raise ResultsFileError(f"{path}: results format {version or 'missing'}, "
-                               f"this lubelink reads format {FORMAT_VERSION}")
-    return ds
-
-
-def config_of(dataset):
-    """The :class:`~lubelink.params.Config` a results dataset was computed with.
-
-    Raises :class:`ResultsFileError` for a dataset that is not lubelink results (no ``config``
-    attribute, or not TOML), :class:`~lubelink.config.ConfigError` for a configuration this
-    version does not accept.
-    """
-    from .config import ConfigError, from_dict, parse_toml
-
-    attrs = getattr(dataset, "attrs", None)
-    text = attrs.get("config") if isinstance(attrs, dict) else None
-    if not isinstance(text, str):
-        raise ResultsFileError("not lubelink results: the dataset has no 'config' attribute (the configuration "
-                               "it was computed with)")
-    try:
-        data = parse_toml(text, "the results' config attribute")
-    except ConfigError as exc:
-        raise ResultsFileError(f"not lubelink results: {exc.problems[0]}") from None
-    return from_dict(data, origin="the results' config attribute")

@@ -49,7 +49,7 @@ def _legend(ax, ncols):
 def _config(ds, config):
     if config is not None:
         return config
-    from ..results import config_of
+    from ..netcdf import config_of
 
     return config_of(ds)
 

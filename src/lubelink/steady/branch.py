@@ -4,7 +4,7 @@
 crank speed by default) goes from its value to ``stop`` (:func:`~.arclength.continue_branch`
 on the :class:`~.problem.Family` of period maps), summarising each orbit as it is accepted;
 :func:`branch_results` lays the branch out as :class:`~lubelink.results.Results` (written by
-:func:`lubelink.results.write`); :func:`continuation` returns it as an :class:`xarray.Dataset`.
+:func:`lubelink.netcdf.write`); :func:`continuation` returns it as an :class:`xarray.Dataset`.
 """
 
 from __future__ import annotations

@@ -110,7 +110,7 @@ def _cmd_periodic(args):
     import numpy as np
 
     from ..cli import resolve_args
-    from ..results import ResultsFileError, write
+    from ..netcdf import ResultsFileError, write
     from .orbit import find_periodic, orbit_results
     from .shooting import ShootingError
 
@@ -166,7 +166,7 @@ def _cmd_continue(args):
     import time
 
     from ..cli import resolve_args
-    from ..results import ResultsFileError, write
+    from ..netcdf import ResultsFileError, write
     from .branch import branch_results, find_branch
     from .shooting import MapFailure, ShootingError
 

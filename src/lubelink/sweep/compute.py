@@ -26,7 +26,7 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
     :class:`lubelink.results.Results`.
 
     Returns ``{name: value}`` with ``status``, ``message`` (the run's, then its
-    ``contact_warning`` if any: :func:`lubelink.results.penetration`) and ``wall_time``
+    ``contact_warning`` if any: :func:`lubelink.contact.penetration`) and ``wall_time``
     [s] and each of ``quantities`` (see :data:`QUANTITIES` for units):
     floats (NaN when the quantity does not exist for this run, e.g. the film
     pressure of a dry joint), integers, and for ``impact_times`` a list of
