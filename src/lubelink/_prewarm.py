@@ -70,10 +70,17 @@ def _is_warm(dispatcher, args) -> bool:
 _WARM: dict = {}
 
 
+def _helped(model, motion) -> bool:
+    """Whether a helper process may compile ``model``'s kernels: compiled planar kernels of a
+    configuration that TOML carries (not Python callables), POSIX (select(), flock()), and not
+    ``LUBELINK_PREWARM=0``."""
+    return (model.compiled and motion is None and model.params.spatial is None and os.name == "posix"
+            and os.environ.get("LUBELINK_PREWARM", "1") != "0")
+
+
 def start(model, motion=None):
     """The helper process compiling ``model``'s kernels, or None (nothing to gain; see the module)."""
-    if (not model.compiled or motion is not None or os.environ.get("LUBELINK_PREWARM", "1") == "0" or _cores() < 2
-            or os.name != "posix" or model.params.spatial is not None):  # select() on a pipe; planar kernels only
+    if not _helped(model, motion) or _cores() < 2:
         return None
     from .config import to_toml
     from .integrate.driver import signatures
@@ -159,8 +166,7 @@ def first_run(model, motion=None):
     and its results are estimated within :data:`FIRST_RUN_LIMIT` as Python (see the module).
     """
     config = model.config
-    if (not model.compiled or motion is not None or model.params.spatial is not None or os.name != "posix"
-            or config.solver.backend != "auto" or os.environ.get("LUBELINK_PREWARM", "1") == "0"
+    if (not _helped(model, motion) or config.solver.backend != "auto"
             or os.environ.get("LUBELINK_FIRST_RUN", "python") == "compile"):
         return model
     from . import integrate

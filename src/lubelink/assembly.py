@@ -371,4 +371,4 @@ def compile_failed(model: Model, exc: BaseException) -> Model:
     message = f"lubelink: the compiled path failed ({type(exc).__name__}: {exc}); running on the numpy backend"
     warnings.warn(message, RuntimeWarning, stacklevel=3)
     log.warning(message)
-    return Model(model.config, model.motion, model.params, False, f"compile failed: {type(exc).__name__}")
+    return interpreted(model, f"compile failed: {type(exc).__name__}")
