@@ -22,7 +22,6 @@ from lubelink import section, spatial, spatial_section
 from lubelink.config import resolve
 from lubelink.model import build_model
 from lubelink.params import Beam
-from lubelink.spatial_model import spatial_gap, spatial_rhs
 
 E, RHO, B, H, L = 207e9, 7650.0, 0.01, 0.01, 1.0
 EPS = np.finfo(float).eps
@@ -231,25 +230,6 @@ def test_uniform_section_through_the_eigen_path_equals_the_uniform_path():
         scale = np.max(np.abs(a)) + np.max(m0.state_frequencies) ** 2 * 1e-7
         np.testing.assert_allclose(b, a, rtol=0, atol=20 * EPS * scale)  # 2 eps measured
         assert m1.gap(t, m1.to_state(y)) == pytest.approx(m0.gap(t, y), abs=1e-15)
-
-
-@pytest.mark.parametrize("over", [{}, {"film.model": "wedge+squeeze", "film.sides": 2}])
-def test_compiled_tapered_kernels_equal_their_python_source(over):
-    model = build_model(resolve("spatial-slider-crank", {**TAPER, "film.clearance": 5e-3, **over}))
-    assert model.compiled and model.params.spatial.galerkin is not None
-    p, N = model.params, model.modes
-    rng = np.random.default_rng(12)
-    for _ in range(10):
-        t = rng.uniform(0.0, 0.5)
-        yq = np.concatenate([rng.normal(size=3 * N) * np.repeat([1e-7, 1e-3, 1e-3], N),
-                             rng.normal(size=3 * N) * np.repeat([1e-4, 0.3, 0.3], N)])
-        y = model.to_state(yq)
-        a, b = np.empty(6 * N), np.empty(6 * N)
-        spatial_rhs(t, y, a, p)
-        spatial_rhs.py_func(t, y, b, p)
-        scale = np.max(np.abs(a)) + np.max(model.state_frequencies) ** 2 * np.max(np.abs(y[:3 * N]))
-        np.testing.assert_allclose(a, b, rtol=0, atol=1e3 * EPS * scale)
-        np.testing.assert_allclose(spatial_gap(t, y, p), spatial_gap.py_func(t, y, p), rtol=1e-10, atol=1e-15)
 
 
 # --- whole runs ----------------------------------------------------------------------------------------------------
