@@ -36,7 +36,6 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import statistics
@@ -89,47 +88,61 @@ import lubelink
 from lubelink.config import resolve
 from lubelink.model import build_model, gap, rhs
 try:
+    from lubelink.spatial_model import spatial_gap, spatial_rhs
+except ImportError:  # a checkout without the spatial model
+    spatial_gap = spatial_rhs = None
+try:
     import numba
 except ImportError:
     numba = None
-if numba is not None:
+
+def loops(f, g):
     @numba.njit
     def loop_rhs(n, y, out, p):
         for i in range(n):
-            rhs(0.1 + i * 1e-7, y, out, p)
+            f(0.1 + i * 1e-7, y, out, p)
     @numba.njit
     def loop_gap(n, y, p):
         for i in range(n):
-            gap(0.1 + i * 1e-7, y, p)
+            g(0.1 + i * 1e-7, y, p)
+    return loop_rhs, loop_gap
+
+if numba is not None:
+    LOOPS = {False: loops(rhs, gap), True: loops(spatial_rhs, spatial_gap) if spatial_rhs is not None else None}
 cache = {}
 print("ready", flush=True)
 for line in sys.stdin:
-    scenario, modes, what = line.split()
-    key = (scenario, int(modes))
+    scenario, modes, what, *extra = line.split()
+    over = {"beam.modes": int(modes), **{k: float(v) for k, v in (e.split("=") for e in extra)}}
+    key = (scenario, modes, *extra)
     if key not in cache:
-        p = build_model(resolve(scenario, {"beam.modes": key[1]})).params
-        y = np.full(2 * key[1], 1e-5)
-        cache[key] = (p, y, np.empty_like(y))
-        lubelink.simulate(scenario, {"beam.modes": key[1]})
-        if numba is not None:
-            loop_rhs(1, y, cache[key][2], p)
-            loop_gap(1, y, p)
-    p, y, out = cache[key]
+        model = build_model(resolve(scenario, over))
+        p = model.params
+        y = np.full(model.initial_state().size, 1e-6 if model.params.spatial is not None else 1e-5)
+        fns = LOOPS[model.params.spatial is not None] if numba is not None else None
+        cache[key] = (p, y, np.empty_like(y), fns)
+        lubelink.simulate(scenario, over)
+        if fns is not None:
+            fns[0](1, y, cache[key][2], p)
+            fns[1](1, y, p)
+    p, y, out, fns = cache[key]
     start = time.perf_counter()
     if what == "simulate":
-        lubelink.simulate(scenario, {"beam.modes": key[1]})
+        lubelink.simulate(scenario, over)
         print(time.perf_counter() - start, flush=True)
     elif what == "rhs":
-        loop_rhs(20000, y, out, p)
+        fns[0](20000, y, out, p)
         print((time.perf_counter() - start) / 20000, flush=True)
     else:
-        loop_gap(20000, y, p)
+        fns[1](20000, y, p)
         print((time.perf_counter() - start) / 20000, flush=True)
 """
 
 
 def servers(sources):
-    """One warm process per ``src`` folder, timing on request (:data:`SERVER_SNIPPET`)."""
+    """One warm process per ``src`` folder, timing on request (:data:`SERVER_SNIPPET`): a request is
+    ``"SCENARIO MODES simulate|rhs|gap [KEY=NUMBER ...]"``, the answer seconds (per call for the kernels,
+    in a compiled loop)."""
     procs = []
     for src in sources:
         env = dict(os.environ, PYTHONPATH=str(src), LUBELINK_PREWARM="0")
@@ -141,11 +154,11 @@ def servers(sources):
     return procs
 
 
-def interleaved(procs, request, repeats):
-    """The minimum of ``repeats`` timings of ``request`` in each process, asked in turn (A B A B ...)."""
-    times = [[] for _ in procs]
+def interleaved(requests, repeats):
+    """The minimum of ``repeats`` timings of each ``(process, request)``, asked in turn (A B A B ...)."""
+    times = [[] for _ in requests]
     for _ in range(repeats + 1):  # the first round warms up (compiles, fills caches)
-        for proc, found in zip(procs, times):
+        for (proc, request), found in zip(requests, times):
             proc.stdin.write(request + "\n")
             proc.stdin.flush()
             found.append(float(proc.stdout.readline()))
@@ -163,7 +176,7 @@ def compare(other, repeats):
     try:
         for scenario, modes in CASES:
             for what in ("simulate", "rhs", "gap"):
-                theirs, mine = interleaved(procs, f"{scenario} {modes} {what}", repeats)
+                theirs, mine = interleaved([(proc, f"{scenario} {modes} {what}") for proc in procs], repeats)
                 unit = (lambda v: f"{1e9 * v:9.0f} ns") if what != "simulate" else ms
                 print(f"{scenario:<16}{modes:>5}  {what:<10}{unit(theirs):>12}{unit(mine):>12}{mine / theirs:>11.2f}x")
     finally:
