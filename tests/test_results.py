@@ -40,6 +40,31 @@ def test_collect_computes_only_the_variables_asked_for():
     assert list(lean.data_vars) == [n for n in full.data_vars if n in lean.data_vars]  # same order
 
 
+@pytest.mark.parametrize("scenario, overrides", [
+    ("paper", {"solver.t_end": 0.05}),  # no impact: an empty impact dimension
+    ("paper-impact", {}),  # impacts (the first at 1.27 s), contact phases
+    ("spatial-slider-crank", {"solver.t_end": 0.02}),  # the direction coordinate, u1, u3
+])
+def test_the_dataset_assembled_directly_is_the_one_of_xarrays_constructor(scenario, overrides):
+    """:func:`results.dataset` (xarray's shortcut, no alignment) gives the Dataset that
+    ``xarray.Dataset(data_vars, coords, attrs)`` builds from the same results: values, dims,
+    indexes, attributes and coordinate names."""
+    import xarray as xr
+
+    from lubelink.results import collect, dataset
+    from lubelink.simulate import run
+
+    r = collect(run(lubelink.config.resolve(scenario, overrides)))
+    direct = dataset(r)
+    built = xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
+    xr.testing.assert_identical(direct, built)
+    assert list(direct.data_vars) == list(built.data_vars) and set(direct.xindexes) == set(built.xindexes)
+    assert dict(direct.sizes) == dict(built.sizes)
+    if scenario == "paper-impact":
+        assert direct.sizes["impact"] > 0
+    direct.isel(time=slice(0, 3)).sel(x=0.5, method="nearest")  # the indexes work
+
+
 # ====================================================================== issue 16 item 9: NetCDF conventions
 def test_units_of_the_registry_are_dimensionally_right():
     """Each unit string of VARIABLES has the dimension its name implies (cf-units)."""

@@ -398,8 +398,8 @@ class Solver:
     """
 
     method: str = "auto"
-    rtol: float = 1e-8
-    atol: float = 1e-9
+    rtol: float = 1e-6
+    atol: float = 1e-8
     t_end: float = 2.0
     output_step: float = 1e-3
     max_step: float = math.inf
