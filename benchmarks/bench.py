@@ -186,11 +186,9 @@ def compare(other, repeats):
 
 
 def bench_simulate(args):
-    import xarray as xr
-
     import lubelink
     from lubelink.config import resolve
-    from lubelink.results import collect
+    from lubelink.results import collect, dataset
     from lubelink.simulate import run
 
     print("\n1. simulate() end to end (warm; median and min of", args.repeats, "calls)")
@@ -203,7 +201,7 @@ def bench_simulate(args):
         config = resolve(scenario, overrides)
         t_run, _, r = timed(lambda: run(config), args.repeats)
         t_col, _, c = timed(lambda: collect(r), args.repeats)
-        t_xr, _, _ = timed(lambda: xr.Dataset(c.data_vars, coords=c.coords, attrs=c.attrs), args.repeats)
+        t_xr, _, _ = timed(lambda: dataset(c), args.repeats)
         print(f"{scenario:<16}{modes:>5} {ds.attrs['solver_method']:<12}{ms(t_sim):>12}{ms(t_min):>12}"
               f"{ms(t_run):>12}{ms(t_col):>12}{ms(t_xr):>12}{r.nfev:>8}{r.nsteps:>7}")
         rows.append((t_sim, t_min))
