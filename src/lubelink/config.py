@@ -65,8 +65,8 @@ SCENARIOS: dict[str, dict] = {
         "film": {"model": "wedge", "clearance": PAPER_IMPACT_CLEARANCE,
                  "viscosity": PAPER_IMPACT_VISCOSITY, "pad_length": PAPER_IMPACT_PAD_LENGTH},
         "contact": {"law": "restitution", "restitution": 0.7},
-        # its first impact sits on a branch 7 um of clearance wide (docs/paper.md): the figures there
-        # were checked at these tolerances, tighter than the defaults
+        # its clearance lies 7 um from a jump of its first impact's branch (docs/paper.md): the
+        # figures there were checked at these tolerances, tighter than the defaults
         "solver": {"rtol": 1e-8, "atol": 1e-9},
     },
     "lubricated": {
