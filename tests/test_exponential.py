@@ -166,6 +166,45 @@ def test_dense_output_is_of_order_four():
     assert slope > 4.5, (errors, slope)
 
 
+@pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])
+@pytest.mark.parametrize("h", [1e-3, -0.02])
+def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, h):
+    """The two exact integrals of a step with a cubic load agree to rounding, from h omega = 0.01 to 1e3.
+
+    The dense output takes ``exp(tau A) (y_n - P(0)) + P(tau)`` with the polynomial particular
+    solution ``P`` for ``h omega >= 0.25`` (underdamped), the phi-functions below; here both see the
+    same random state and cubic, on either side of the switch and backwards in time.
+    """
+    from lubelink.integrate._layout import F_HSTEP, F_TOLD, R_YOLD
+
+    top = 1e3 if h > 0 else min(1e3, 30.0 / max(zeta, 0.03))  # backwards a damped block grows as exp(zeta omega |h|)
+    omega = np.geomspace(0.01, top, 25) / abs(h)
+    N = omega.size
+    rng = np.random.default_rng(7)
+    W = np.zeros((E.rows(2 * N), 2 * N))
+    fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
+    E.setup(W, fst, ist, {"omega": omega, "zeta": zeta})
+    W[R_YOLD] = rng.normal(size=2 * N) * np.concatenate([1.0 / omega, np.ones(N)])
+    W[E.R_Q:E.R_Q + 4] = rng.normal(size=(4, 2 * N))
+    fst[F_HSTEP], fst[F_TOLD] = h, 0.3
+    for dense in (E.dense, E.dense.py_func):
+        fst[E.F_PART] = 0.0
+        for theta in (0.1, 0.5, 0.93, 1.0):
+            out = np.empty(2 * N)
+            t = 0.3 + theta * h
+            dense(forced, np.zeros(3 + N), W, fst, ist, t, out)
+            theta = (t - 0.3) / h  # as the dense output sees it
+            ref = np.empty(2 * N)
+            E._tables(W, h, theta, E.R_THETA, 5)
+            E._cubic_solution(W, h, E.R_THETA, R_YOLD, theta, ref)
+            rate = (zeta + np.sqrt(max(zeta * zeta - 1.0, 0.0))) * omega  # of the fastest-growing solution backwards
+            growth = np.tile(np.exp(np.maximum(0.0, -rate * theta * h)), 2)
+            scale = (np.abs(W[R_YOLD]) + abs(h) * np.abs(W[E.R_Q:E.R_Q + 4]).sum(axis=0)) * growth
+            np.testing.assert_array_less(np.abs(out - ref), 1e-12 * scale)
+    used = ~np.isnan(W[E.R_TURN, :N])
+    assert used.sum() == (np.count_nonzero(omega * abs(h) >= E.DENSE_H_OMEGA) if zeta < E.DENSE_ZETA else 0)
+
+
 def test_error_follows_the_tolerance():
     p = np.array([0.01, 2.0, 3.0, 50.0, 400.0])
     ref = run_exp(p, 2.0, rtol=1e-13, atol=1e-18, t_eval=np.linspace(0.1, 2.0, 20)).y
