@@ -81,17 +81,22 @@ R_Q = R_GNEW + 1  # the cubic for G over the last step, in powers of sigma = (t 
 R_HALF = R_Q + 4  # phi_0..phi_3 of (h/2) A: rows [a_1..a_N, b_1..b_N]
 R_ONE = R_HALF + 4  # phi_0..phi_4 of h A
 R_THETA = R_ONE + 5  # phi_0..phi_4 of theta h A (dense output)
-R_PART = R_THETA + 5  # the dense output's polynomial particular solution over the last step: 4 rows (powers of tau)
+R_QUARTER = R_THETA + 5  # phi_0..phi_3 of (h/4) A
+R_PART = R_QUARTER + 4  # the dense output's polynomial particular solution over the last step: 4 rows (powers of tau)
 R_FREE = R_PART + 4  # its free part at tau = 0, y_n - P(0)
 R_TURN = R_FREE + 1  # (A + zeta omega I) R_FREE / omega_d
 ROWS_END = R_TURN + 1
 FLOATS = F_METHOD + 2
-F_HOLD = F_METHOD  # the step the R_HALF, R_ONE tables were made for
+F_HOLD = F_METHOD  # the step the R_HALF, R_ONE, R_QUARTER tables were made for
 F_PART = F_METHOD + 1  # 1: R_PART, R_FREE, R_TURN hold the last accepted step's; 0: not yet
 #: Smallest ``h omega`` at which the dense output of a block uses its particular solution (below,
 #: the phi-functions): the particular solution's terms grow like ``3! / (h omega)^4`` against the
 #: solution, and so does their rounding error (about 1e-13 of the state here).
 DENSE_H_OMEGA = 0.25
+#: A step accepted with a proposed change of its size by a factor in ``[KEEP_LOW, KEEP_HIGH]`` is
+#: kept, and so are its tables of phi-functions (the rule of Hairer & Wanner's RADAU5 for its LU
+#: factors; *Solving ODEs II*, IV.8): the tables cost about as much as the seven evaluations.
+KEEP_LOW, KEEP_HIGH = 1.0, 1.2
 #: Largest damping ratio at which the dense output of a block uses its particular solution.
 DENSE_ZETA = 0.999
 
@@ -332,10 +337,9 @@ def _load_cubic(rhs, p, W, ist, t, h):
     rhs(t + h, W[R_YNEW], W[R_FU], p)
     ist[S_NFEV] += 1
     _load(W, W[R_YNEW], W[R_FU], W[R_GNEW])
-    _tables(W, h, 0.25, R_THETA, 4)
     for j in range(2):
         sigma = 0.25 * (j + 1)
-        _extension3(W, h, sigma, R_THETA if j == 0 else R_HALF, R_Y, R_G, R_G + 3, R_G + 4, W[R_ERR])
+        _extension3(W, h, sigma, R_QUARTER if j == 0 else R_HALF, R_Y, R_G, R_G + 3, R_G + 4, W[R_ERR])
         rhs(t + sigma * h, W[R_ERR], W[R_FU], p)
         ist[S_NFEV] += 1
         _load(W, W[R_ERR], W[R_FU], W[R_Q + 1 + j])
@@ -400,6 +404,7 @@ def step(rhs, p, W, fst, ist):
             t_new = fst[F_TEND]
         h = t_new - t
         if h != fst[F_HOLD]:
+            _tables(W, h, 0.25, R_QUARTER, 4)
             _tables(W, h, 0.5, R_HALF, 4)
             _tables(W, h, 1.0, R_ONE, 5)
             fst[F_HOLD] = h
@@ -414,6 +419,8 @@ def step(rhs, p, W, fst, ist):
             ist[S_FAIL] = FAIL_RHS
             err = 1.0 / MIN_FACTOR ** ORDER
         factor = step_factor(err, ORDER - 1, rejected)
+        if KEEP_LOW <= factor <= KEEP_HIGH and h == fst[F_HOLD]:
+            factor = 1.0  # the tables serve the next step too
         h_abs = abs(h) * factor
         if err < 1.0:
             ist[S_FAIL] = 0
