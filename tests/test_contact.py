@@ -130,3 +130,47 @@ def test_the_penetration_message_says_where_and_when():
     text = penetration(t, held, side, 5e-6)
     assert "to -2e-06 m at t = 2 s (first at t = 1 s, 2 samples), during a sustained contact" in text
     assert "partly in free flight" in penetration(t, held, np.zeros(5), 5e-6)
+
+
+class _StrikingModel:
+    """A model whose every impact leaves the link on the face with a negative holding force:
+    what several points of the pad striking the face at the same instant look like to the logic."""
+
+    modes = 1
+    params = type("P", (), {"galerkin": None})()
+
+    def __init__(self, config):
+        self.config = config
+
+    @staticmethod
+    def planar_state(y):
+        return y
+
+    def impact(self, t, y, restitution=None):
+        return y.copy(), 0.5, 1e-3, 1  # y_plus, x_c [m], v_minus [m/s], side
+
+    def contact_point(self, t, y):
+        return 0.5
+
+    def sustained_force(self, t, y, side, point):
+        return (-1.0,)  # [N]: the collar would pull the link
+
+
+def test_impacts_repeated_at_one_instant_end_in_chatter_at_stuck_impacts():
+    """Repeated impacts within one chatter interval and no holding force: chatter at the 100th, not
+    at max_impacts (before, paper-impact with 7 modes on DOP853 made 100,000 of them, 2 min)."""
+    from lubelink.config import resolve
+
+    logic = contact.ContactLogic(_StrikingModel(resolve("paper-impact")))
+    y = np.zeros(2)
+    t = 1.0
+    for k in range(1, logic.stuck_impacts):
+        status = logic.on_event(t, y, t, y, None)[0]
+        assert status is None, k
+        t += 1e-9  # [s], well within contact.chatter_interval = 1e-6 s
+    status, message = logic.on_event(t, y, t, y, None)[:2]
+    assert status == "chatter" and len(logic.impacts) == logic.stuck_impacts
+    assert "100 impacts within contact.chatter_interval = 1e-06 s" in message and "compliant" in message
+    spaced = contact.ContactLogic(_StrikingModel(resolve("paper-impact")))
+    for k in range(2 * spaced.stuck_impacts):  # the same number of impacts, each 2 chatter intervals apart
+        assert spaced.on_event(2e-6 * k, y, 2e-6 * k, y, None)[0] is None

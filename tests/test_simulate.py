@@ -198,6 +198,16 @@ def test_paper_impact_runs_to_its_end():
     assert float(ds.time[-1]) == pytest.approx(2.0) and ds.attrs["impact_count"] >= 1
 
 
+def test_simultaneous_impacts_end_in_chatter_at_once():
+    """paper-impact with 7 modes on DOP853 meets, at t = 1.854 s, impacts repeated at one instant (the
+    pad strikes the face at several points); the run used to repeat them to max_impacts (100,000
+    impacts, 126 s) and now stops with chatter after 100 of them (2.5 s), the partial run kept."""
+    ds = lubelink.simulate("paper-impact", set={"beam.modes": 7, "solver.method": "DOP853"})
+    assert ds.attrs["status"] == "chatter", ds.attrs["message"]
+    assert "100 impacts within contact.chatter_interval" in ds.attrs["message"]
+    assert 100 <= ds.attrs["impact_count"] < 1000 and 1.8 < float(ds.time[-1]) < 1.9
+
+
 # ---------------------------------------------------------------- the accuracy of the default tolerances
 @pytest.mark.parametrize("scenario, overrides", [
     ("paper", {}),
