@@ -26,7 +26,9 @@ The compared quantity is the midpoint's deflection from the chord,
 C (lubelink's ``u2_mid``); the Exudyn series is interpolated onto lubelink's 1 ms samples. Printed:
 the wall times (Exudyn: the ``SolveDynamic`` call alone, then with model building and output, as
 medians of the repeats, and the import; lubelink: ``simulate()`` end to end, warm, median after a
-warm-up call), the ratio of Exudyn's solve alone to lubelink's end to end, the largest difference
+warm-up call, and its integration alone, ``lubelink.simulate.run``, Exudyn's ``SolveDynamic``'s
+counterpart), the ratio of Exudyn's solve alone to lubelink's end to end (and to its integration
+alone), the largest difference
 of ``u2_mid`` over 0-2 s in µm and in per cent of Exudyn's peak ``|u2_mid|``, and the convergence
 of the Exudyn model (h = 5e-5 s and 16 elements against the 8-element, h = 1e-4 s run).
 
@@ -191,6 +193,27 @@ def run_lubelink(repeats, tolerance=None):
     return ds.time.values, ds.u2_mid.values, walls, lubelink.__version__
 
 
+def solve_lubelink(repeats, tolerance=None):
+    """Wall times of ``lubelink.simulate.run`` alone (the integration and its 2001 samples, no results):
+    the counterpart of Exudyn's ``SolveDynamic``."""
+    import importlib
+
+    from lubelink.config import resolve
+
+    run = importlib.import_module("lubelink.simulate").run
+    overrides = {"beam.modes": 5}
+    if tolerance is not None:
+        overrides.update({"solver.rtol": tolerance, "solver.atol": tolerance / 10})
+    config = resolve("paper-dry", overrides)
+    run(config)
+    walls = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        run(config)
+        walls.append(time.perf_counter() - t0)
+    return walls
+
+
 def spread(walls, unit, scale, digits):
     """``median X unit of N (min-max)`` for wall times in seconds shown in ``unit`` (``scale`` per s)."""
     lo, mid, hi = (f"{scale * w:.{digits}f}" for w in (min(walls), statistics.median(walls), max(walls)))
@@ -231,6 +254,9 @@ def main():
           f"{spread(walls, 'ms', 1e3, 1)}")
     print(f"ratio (Exudyn solve / lubelink): {ratio:.0f}x  (target >= {TARGET_RATIO:.0f}x: "
           f"{'met' if ratio >= TARGET_RATIO else f'not met, {TARGET_RATIO / ratio:.1f}x short'})")
+    solve = solve_lubelink(args.repeats)
+    print(f"  lubelink's integration alone (simulate.run, no results): {spread(solve, 'ms', 1e3, 1)}; "
+          f"solve against solve {statistics.median(ref['solve']) / statistics.median(solve):.0f}x")
     print(f"peak |u2_mid|: Exudyn {1e3 * peak:.4f} mm, lubelink {1e3 * np.abs(u2).max():.4f} mm")
     rel = 100.0 * diff / peak
     print(f"max |u2_mid difference| over 0-{T_END:g} s: {1e6 * diff:.1f} µm = {rel:.2f} % of Exudyn's peak  "
@@ -245,8 +271,9 @@ def main():
         e = np.abs(uu - np.interp(tt, tight_t, tight)).max()
         d = 100.0 * np.abs(uu - np.interp(tt, ref["t"], ref["u2_mid"])).max() / peak
         r = statistics.median(ref["solve"]) / statistics.median(ww)
+        rs = statistics.median(ref["solve"]) / statistics.median(solve_lubelink(args.repeats, tol))
         print(f"lubelink at rtol {tol:g}, atol {tol / 10:g} m: {spread(ww, 'ms', 1e3, 1)}; integration error "
-              f"{1e6 * e:.3f} µm; against Exudyn {d:.2f} %; ratio {r:.0f}x")
+              f"{1e6 * e:.3f} µm; against Exudyn {d:.2f} %; ratio {r:.0f}x (solve against solve {rs:.0f}x)")
     if args.quick:
         return
     print(f"Exudyn convergence: max |u2_mid difference| against {BASE[0]} elements, h = {BASE[1]:g} s")
