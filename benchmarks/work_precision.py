@@ -82,6 +82,7 @@ def draw(results, modes_list, path):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     fig, axes = plt.subplots(len(CASES), len(modes_list), figsize=(3.2 * len(modes_list), 2.8 * len(CASES)),
                              squeeze=False, sharey=True)
@@ -103,8 +104,11 @@ def draw(results, modes_list, path):
                         ax.plot(ti, ei, "x", ms=7, color="k")
             title = f"{case}, {modes} mode{'s' if modes > 1 else ''}"
             if case == "paper-impact":
-                title += f" (to 1st impact + {1e3 * AFTER_IMPACT:.0f} ms)"
-            ax.set_title(title, fontsize=9)
+                title += f", to impact 1 + {1e3 * AFTER_IMPACT:.0f} ms"
+            ax.set_title(title, fontsize=8)
+            ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+            ax.xaxis.set_minor_formatter(NullFormatter())
             ax.grid(True, which="both", lw=0.3)
             if i == len(CASES) - 1:
                 ax.set_xlabel("integration time [ms]")
