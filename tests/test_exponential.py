@@ -120,7 +120,7 @@ def fixed_steps(h, t_end, p):
         W[R_Y] = W[E.R_YNEW]
         t += h
         forced(t, W[R_Y], W[R_F], p)
-        E._load(W, W[R_Y], W[R_F], W[E.R_G])
+        E._load(W, R_Y, R_F, E.R_G)
     return W[R_Y].copy()
 
 
@@ -194,9 +194,9 @@ def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, 
             t = 0.3 + theta * h
             dense(forced, np.zeros(3 + N), W, fst, ist, t, out)
             theta = (t - 0.3) / h  # as the dense output sees it
-            ref = np.empty(2 * N)
             E._tables(W, h, theta, E.R_THETA, 5)
-            E._cubic_solution(W, h, E.R_THETA, R_YOLD, theta, ref)
+            E._cubic_solution(W, h, E.R_THETA, R_YOLD, theta, E.R_ERR)
+            ref = W[E.R_ERR].copy()
             rate = (zeta + np.sqrt(max(zeta * zeta - 1.0, 0.0))) * omega  # of the fastest-growing solution backwards
             growth = np.tile(np.exp(np.maximum(0.0, -rate * theta * h)), 2)
             scale = (np.abs(W[R_YOLD]) + abs(h) * np.abs(W[E.R_Q:E.R_Q + 4]).sum(axis=0)) * growth
