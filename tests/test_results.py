@@ -145,3 +145,22 @@ def test_a_sweep_point_records_the_penetration_even_without_storing_the_film():
     assert "film_min" not in r.data_vars
     record = summarise(r, ("peak_u2_mid",))
     assert record["status"] == "complete" and "went through the collar face" in record["message"]
+
+
+def test_the_direct_dataset_of_an_orbit_and_of_a_branch_is_the_constructors():
+    """``lubelink.periodic`` and ``lubelink.continuation`` build their Datasets through
+    :func:`results.dataset` too: the same Dataset as xarray's constructor, for their own
+    dimensions (harmonics, points, bifurcations)."""
+    import xarray as xr
+
+    from lubelink.results import dataset
+    from lubelink.steady.branch import branch_results, find_branch
+    from lubelink.steady.orbit import find_periodic, orbit_results
+
+    config = lubelink.config.resolve("paper-dry", {"beam.damping_ratio": 0.02})
+    orbit = orbit_results(find_periodic(config))
+    branch = branch_results(*find_branch(config, 46.5, start=46.0, max_points=3))
+    for r in (orbit, branch):
+        direct = dataset(r)
+        xr.testing.assert_identical(direct, xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs))
+        assert set(direct.xindexes) == set(xr.Dataset(r.data_vars, coords=r.coords).xindexes)

@@ -298,14 +298,12 @@ def continuation(source="paper", set=None, *, stop, parameter="mechanism.crank_s
         (:data:`SPATIAL_BRANCH_VARIABLES`). ``attrs["status"]`` is
         ``"complete"``, or ``"stopped"`` with the reason in ``attrs["message"]``.
     """
-    import xarray as xr
-
     from ..config import resolve
+    from ..results import dataset
 
     config = resolve(source, set)
     branch, summaries, family = find_branch(
         config, stop, parameter, start=start, motion=motion, period=period, periods=periods, y0=y0, warmup=warmup,
         jacobian=jacobian, ds=ds, ds_max=ds_max, max_parameter_step=max_parameter_step, max_points=max_points,
         tol=tol, max_angle=max_angle, progress=progress)
-    r = branch_results(branch, summaries, family)
-    return xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
+    return dataset(branch_results(branch, summaries, family))

@@ -167,6 +167,7 @@ def _cmd_continue(args):
 
     from ..cli import resolve_args
     from ..netcdf import ResultsFileError, write
+    from ..results import dataset
     from .branch import branch_results, find_branch
     from .shooting import MapFailure, ShootingError
 
@@ -189,7 +190,7 @@ def _cmd_continue(args):
     except ResultsFileError as exc:
         raise UsageError(str(exc)) from None
     if figure is not None:
-        _save_figure(_dataset(r), figure, title=f"{source}: periodic response against {args.parameter}")
+        _save_figure(dataset(r), figure, title=f"{source}: periodic response against {args.parameter}")
     if not args.quiet:
         pts = branch.points
         stable = sum(p.stable for p in pts)
@@ -204,11 +205,6 @@ def _cmd_continue(args):
         print(_table(rows))
     return 0 if branch.status == "complete" else 1
 
-
-def _dataset(r):
-    import xarray as xr
-
-    return xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
 
 
 def _save_figure(branches, path, title=None, log=True):

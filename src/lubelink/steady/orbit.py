@@ -309,12 +309,10 @@ def periodic(source="paper", set=None, *, motion=None, period=None, periods=1, y
     ShootingError
         No periodic response found.
     """
-    import xarray as xr
-
     from ..config import resolve
+    from ..results import dataset
 
     config = resolve(source, set)
     orbit = find_periodic(config, motion, period=period, periods=periods, y0=y0, warmup=warmup, restarts=restarts,
                           jacobian=jacobian, tol=tol, max_iter=max_iter)
-    r = orbit_results(orbit)
-    return xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs)
+    return dataset(orbit_results(orbit))
