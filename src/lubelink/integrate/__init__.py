@@ -10,6 +10,7 @@ module               job
 ``dop853``           Dormand-Prince 8(5,3) with dense output
 ``bulirsch_stoer``   Gragg-Bulirsch-Stoer extrapolation; also as a SciPy ``OdeSolver``
 ``exponential``      exponential Runge-Kutta for damped oscillators with a nonlinear load
+``phi``              the phi-functions of a damped oscillator's 2x2 block (for ``exponential``)
 ``scipy_methods``    SciPy's RK45, Radau, BDF, LSODA behind the driver's method interface
 ===================  ============================================================================
 

@@ -206,7 +206,6 @@ def _cmd_continue(args):
     return 0 if branch.status == "complete" else 1
 
 
-
 def _save_figure(branches, path, title=None, log=True):
     import matplotlib
 
