@@ -121,6 +121,34 @@ def test_linear_theory_domain_stops_the_run_with_a_named_status():
     assert lifted.status != "out_of_domain"
 
 
+def test_domain_exit_finds_the_first_state_outside_by_brute_force():
+    """The screening by bounds (all states at once, then state by state) gives the first state whose
+    measures, each on a fine grid, exceed a limit; a non-finite state counts as outside."""
+    import importlib
+
+    from lubelink.assembly import build_model
+    from lubelink.beam import linear_domain
+
+    domain_exit = importlib.import_module("lubelink.simulate").domain_exit
+    model = build_model(resolve("paper-dry", {"beam.modes": 4, "solver.max_deflection": 0.01,
+                                              "solver.max_slope": 0.05, "solver.max_axial_strain": 1e-4}))
+    limits = np.array([0.01, 0.05, 1e-4])
+    rng = np.random.default_rng(3)
+    for scale in (1e-4, 2e-3, 5e-3, 1e-2):
+        y = np.zeros((300, 8))
+        y[:, :4] = rng.normal(size=(300, 4)) * scale / np.arange(1, 5) ** 2 * np.linspace(0.1, 1.0, 300)[:, None]
+        outside = np.flatnonzero((linear_domain(y[:, :4], 1.0, 2001) > limits).any(axis=1))
+        found = domain_exit(model, y)
+        if outside.size == 0:
+            assert found is None, scale
+        else:
+            assert found is not None and found[0] == outside[0], (scale, found, outside[:3])
+    y = np.zeros((50, 8))
+    y[17, 2] = np.nan
+    assert domain_exit(model, y)[0] == 17
+    assert domain_exit(model, np.zeros((50, 8))) is None
+
+
 def test_film_breakdown_without_contact_law_is_reported():
     r = run(resolve("paper", {"film.model": "none", "film.clearance": 5e-3, "contact.law": "none",
                               "solver.t_end": 0.5}))

@@ -48,6 +48,7 @@ S_FAIL = 6  # reason of a failure
 S_MAXSTEPS = 7  # steps per call before returning to Python
 S_DENSE = 8  # 1: the dense output of the last step is ready
 S_ARMED = 9  # 1: the event has been positive, so a fall to zero counts
+S_SAMPLE = 10  # 1 while the driver writes the samples of t_eval (a method may chain its dense output along them)
 S_METHOD = 12
 
 # return codes of a driver call and failure reasons

@@ -34,7 +34,7 @@ from lubelink._jit import ENABLED, kernel
 from ._layout import (EVENT, F_BOLD, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, F_RES, F_T, F_TBEFORE, F_TEND, F_TFINAL,
                       F_TOLD, F_TPAUSE, F_TSTOP, FAIL_NONFINITE, FAIL_RHS, FAIL_SMALL_STEP, FAILED, FINISHED, R_ATOL, R_RTOL,
                       R_Y, R_YBEFORE, R_YFINAL, R_YOLD, RUNNING, S_ARMED, S_EVENT, S_FAIL, S_IEVAL, S_INIT,
-                      S_MAXSTEPS, S_NFEV, S_NREJ, S_NSTEPS)
+                      S_MAXSTEPS, S_SAMPLE, S_NFEV, S_NREJ, S_NSTEPS)
 from .control import EPS, TOO_SMALL_STEP
 from .events import locate
 
@@ -146,6 +146,7 @@ def advance(init, step, dense, rhs, event, p, sign, t_eval, out, W, fst, ist):
                 ist[S_ARMED] = 1 if fst[F_GOLD] > 0.0 else 0
         t_stop = fst[F_TFINAL] if hit else t_new
         i = ist[S_IEVAL]
+        ist[S_SAMPLE] = 1
         while i < n_eval and t_eval[i] <= t_stop:
             if t_eval[i] == t_new:
                 for m in range(n):
@@ -153,6 +154,7 @@ def advance(init, step, dense, rhs, event, p, sign, t_eval, out, W, fst, ist):
             else:
                 dense(rhs, p, W, fst, ist, t_eval[i], out[i])
             i += 1
+        ist[S_SAMPLE] = 0
         ist[S_IEVAL] = i
         fst[F_TSTOP] = t_stop
         if hit:

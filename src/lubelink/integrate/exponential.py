@@ -54,7 +54,7 @@ import numpy as np
 
 from lubelink._jit import jitable, kernel
 from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TEND, F_TOLD, FAIL_RHS, R_F, R_METHOD, R_Y,
-                      R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
+                      R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ, S_SAMPLE)
 from .control import MIN_FACTOR, initial_step, scaled_rms, step_factor
 from .phi import phi_block
 
@@ -77,10 +77,15 @@ R_QUARTER = R_THETA + 5  # phi_0..phi_3 of (h/4) A
 R_PART = R_QUARTER + 4  # the dense output's polynomial particular solution over the last step: 4 rows (powers of tau)
 R_FREE = R_PART + 4  # its free part at tau = 0, y_n - P(0)
 R_TURN = R_FREE + 1  # (A + zeta omega I) R_FREE / omega_d
-ROWS_END = R_TURN + 1
-FLOATS = F_METHOD + 2
+R_LAST = R_TURN + 1  # exp(lambda tau) of each block at the last sample, [Re_1..Re_N, Im_1..Im_N]
+R_ROT = R_LAST + 1  # exp(lambda F_DTAU) of each block, the same layout
+ROWS_END = R_ROT + 1
+FLOATS = F_METHOD + 5
 F_HOLD = F_METHOD  # the step the R_HALF, R_ONE, R_QUARTER tables were made for
 F_PART = F_METHOD + 1  # 1: R_PART, R_FREE, R_TURN hold the last accepted step's; 0: not yet
+F_TAU = F_METHOD + 2  # tau of the last sample of this step (R_LAST); NaN: none yet
+F_DTAU = F_METHOD + 3  # the spacing of the samples R_ROT was made for (0: none)
+F_CHAIN = F_METHOD + 4  # samples since the last one computed directly
 #: Smallest ``h omega`` at which the dense output of a block uses its particular solution (below,
 #: the phi-functions): the particular solution's terms grow like ``3! / (h omega)^4`` against the
 #: solution, and so does their rounding error (about 1e-13 of the state here).
@@ -91,6 +96,15 @@ DENSE_H_OMEGA = 0.25
 KEEP_LOW, KEEP_HIGH = 1.0, 1.2
 #: Largest damping ratio at which the dense output of a block uses its particular solution.
 DENSE_ZETA = 0.999
+#: Samples of ``t_eval`` in a row whose ``exp(lambda tau)`` follows from the previous sample's
+#: by one rotation ``exp(lambda dtau)`` (a complex product instead of an ``exp``, ``cos`` and
+#: ``sin``), before one is computed directly again: the rounding of the products, a few units of
+#: the last place each, stays below 1e-14 of the free oscillation.
+CHAIN_LENGTH = 32
+#: Relative difference of two spacings of samples within which the rotation of one serves the
+#: other, with the first-order correction ``1 + lambda (d - dtau)`` (its error ``(lambda (d - dtau))^2 / 2``
+#: is below 1e-18 for ``|lambda dtau| < 1e3``); sample times differ from a uniform grid by rounding only.
+CHAIN_MATCH = 1e-9
 
 
 def rows(n):
@@ -419,15 +433,35 @@ def _particular(W, h):
         W[R_TURN, N + i] = (-om * om * zx - sigma * zv) * inv_od
 
 
+@jitable
+def _rotations(W, d):
+    """``exp(lambda d)`` of every underdamped block into ``R_ROT`` (``lambda = -zeta omega + i omega_d``).
+
+    All of them, not only those of this step's particular solution: the rotations serve later steps,
+    whose blocks may switch from the phi-functions to the particular solution (``h omega`` grows).
+    """
+    N = W.shape[1] // 2
+    for i in range(N):
+        if not W[R_LIN, N + i] < DENSE_ZETA:
+            continue
+        om = W[R_LIN, i]
+        zeta = W[R_LIN, N + i]
+        decay = math.exp(-zeta * om * d)
+        angle = om * math.sqrt(1.0 - zeta * zeta) * d
+        W[R_ROT, i] = decay * math.cos(angle)
+        W[R_ROT, N + i] = decay * math.sin(angle)
+
+
 @kernel
 def dense(rhs, p, W, fst, ist, t, out):
     """Fourth-order dense output of the last step at ``t``, into ``out``.
 
     The step's solution with its load replaced by the cubic of :func:`_load_cubic`, integrated
     exactly: for an underdamped block with ``h omega >=`` :data:`DENSE_H_OMEGA` through the
-    particular solution of :func:`_particular` (a real ``exp``, ``cos`` and ``sin`` per block and
-    sample, against five complex phi-functions), otherwise
-    through the phi-functions (:func:`_cubic_solution`); the two agree to rounding.
+    particular solution of :func:`_particular` (``exp(lambda tau)``: a real ``exp``, ``cos`` and
+    ``sin`` per block, against five complex phi-functions; along the samples of ``t_eval`` the
+    previous sample's times one rotation, :data:`CHAIN_LENGTH`), otherwise through the
+    phi-functions (:func:`_cubic_solution`); the two agree to rounding.
     """
     h = fst[F_HSTEP]
     theta = (t - fst[F_TOLD]) / h
@@ -437,8 +471,24 @@ def dense(rhs, p, W, fst, ist, t, out):
     if fst[F_PART] == 0.0:
         _particular(W, h)
         fst[F_PART] = 1.0
+        fst[F_TAU] = np.nan
     N = W.shape[1] // 2
     tau = theta * h
+    sample = ist[S_SAMPLE] != 0
+    chained = False
+    delta = 0.0
+    if sample:
+        d = tau - fst[F_TAU]  # NaN at the first sample of the step
+        dtau = fst[F_DTAU]
+        if d == d and d != 0.0:
+            if abs(d - dtau) <= CHAIN_MATCH * abs(dtau):
+                chained = fst[F_CHAIN] < CHAIN_LENGTH
+                delta = d - dtau
+            else:  # a new spacing: its rotations, for the samples that follow
+                _rotations(W, d)
+                fst[F_DTAU] = d
+        fst[F_CHAIN] = fst[F_CHAIN] + 1.0 if chained else 0.0
+        fst[F_TAU] = tau
     for i in range(N):
         if np.isnan(W[R_TURN, i]):  # through the phi-functions, in the scratch row R_U
             _table_block(W, tau, R_THETA, 5, i)
@@ -454,10 +504,23 @@ def dense(rhs, p, W, fst, ist, t, out):
             continue
         om = W[R_LIN, i]
         zeta = W[R_LIN, N + i]
-        decay = math.exp(-zeta * om * tau)
-        angle = om * math.sqrt(1.0 - zeta * zeta) * tau
-        c = decay * math.cos(angle)
-        s = decay * math.sin(angle)
+        if chained:  # exp(lambda tau) = exp(lambda tau_last) exp(lambda dtau) (1 + lambda delta)
+            sigma = zeta * om
+            omega_d = om * math.sqrt(1.0 - zeta * zeta)
+            cr = 1.0 - sigma * delta
+            ci = omega_d * delta
+            rr = W[R_ROT, i] * cr - W[R_ROT, N + i] * ci
+            ri = W[R_ROT, i] * ci + W[R_ROT, N + i] * cr
+            c = W[R_LAST, i] * rr - W[R_LAST, N + i] * ri
+            s = W[R_LAST, i] * ri + W[R_LAST, N + i] * rr
+        else:
+            decay = math.exp(-zeta * om * tau)
+            angle = om * math.sqrt(1.0 - zeta * zeta) * tau
+            c = decay * math.cos(angle)
+            s = decay * math.sin(angle)
+        if sample:
+            W[R_LAST, i] = c
+            W[R_LAST, N + i] = s
         x = W[R_PART + 3, i]
         v = W[R_PART + 3, N + i]
         for k in range(2, -1, -1):
