@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 from lubelink.kinematics import (
     PrescribedMotion,
     SliderCrank,
+    collar_many,
     collar_travel,
     sampled_motion,
     slider_crank,
@@ -218,6 +219,24 @@ def test_sampled_motion_reproduces_slider_crank():
     mo2 = sampled_motion(ts, k["A_O2"], k["omega"], k["x_star"], alpha=k["alpha"], V_r=k["V_r"])
     np.testing.assert_allclose(mo2(tm).alpha, ref.alpha, rtol=0, atol=2e-8 * np.abs(ref.alpha).max())
     np.testing.assert_allclose(mo2(ts).V_r, k["V_r"], rtol=1e-12, atol=1e-14)
+
+
+def test_collar_samples_of_the_compiled_motion_are_the_geometry():
+    """``collar_many`` (the results' x_star, V_r, through the compiled motion table) against the
+    first-principles geometry and its finite-difference rate, for the slider-crank and a sampled motion."""
+    t = np.linspace(0.0, 0.4, 401)
+    h = 1e-5
+    x_geo = geometry(t)["x_star"]
+    v_geo = d1(lambda s: geometry(s)["x_star"], t, h)
+    x_star, V_r = collar_many(t, SliderCrank(PAPER).table())
+    np.testing.assert_allclose(x_star, x_geo, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(V_r, v_geo, rtol=0, atol=1e-8)
+    knots = np.linspace(0.0, 0.4, 801)
+    k = kin(knots)
+    motion = sampled_motion(knots, k["A_O2"], k["omega"], k["x_star"], alpha=k["alpha"], V_r=k["V_r"])
+    x_star, V_r = collar_many(t, motion.table())
+    np.testing.assert_allclose(x_star, x_geo, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(V_r, v_geo, rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize("bad_t", [[0.0, 1.0, 2.0], [0.0, 2.0, 1.0, 3.0], [[0.0, 1.0], [2.0, 3.0]]])

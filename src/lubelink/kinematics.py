@@ -22,7 +22,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from ._jit import jitable
+from ._jit import jitable, kernel
 from .params import Mechanism
 
 __all__ = [
@@ -206,6 +206,18 @@ def _motion(t, m, knots, coef):
             piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
             piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
             piecewise_cubic(t, knots, coef, 6), np.nan)
+
+
+@kernel
+def collar_many(t, m):
+    """``(x_star [m], V_r [m/s])`` of :func:`motion_at` at every time of ``t`` [s] (the results' samples)."""
+    x_star = np.empty(t.shape[0])
+    V_r = np.empty(t.shape[0])
+    for i in range(t.shape[0]):
+        k = motion_at(t[i], m)
+        x_star[i] = k[3]
+        V_r[i] = k[4]
+    return x_star, V_r
 
 
 @jitable

@@ -193,7 +193,9 @@ def dataset(results: Results):
     Assembled from its variables and indexes without the constructor's alignment and merge, which
     find nothing to do here (every coordinate is a 1-D index of its own dimension, every variable
     lies on those dimensions) and cost about as much as the rest of the results (0.5 of 0.9 ms on
-    ``paper``). ``xarray.Dataset._construct_direct`` is xarray's own shortcut for this; should a
+    ``paper``). Each coordinate's variable is made by its index (``Index.create_variables``,
+    xarray's API for custom indexes), so its pandas.Index is built once, not twice (0.83 -> 0.55 ms
+    on ``paper-dry``). ``xarray.Dataset._construct_direct`` is xarray's own shortcut for this; should a
     release drop it, the constructor takes over (``tests/test_results.py`` checks both give the
     same Dataset).
     """
@@ -206,10 +208,11 @@ def dataset(results: Results):
 
             variables, indexes = {}, {}
             for name, (dims, data, attrs) in results.coords.items():
-                variables[name] = xr.IndexVariable(dims, data, attrs)
                 indexes[name] = PandasIndex(data, name)
+                variables[name] = indexes[name].create_variables()[name]  # on the index's own pandas.Index
+                variables[name].attrs = attrs
             for name, (dims, data, attrs) in results.data_vars.items():
-                variables[name] = xr.Variable(dims, data, attrs)
+                variables[name] = xr.Variable(dims, data, attrs, fastpath=True)  # data: NumPy arrays already
             return direct(variables, set(results.coords), attrs=dict(results.attrs), indexes=indexes)
         except (ImportError, TypeError, ValueError):  # another xarray: the constructor below
             pass
@@ -225,6 +228,7 @@ def collect(result, variables=None) -> Results:
     """
     from . import beam, contact, film
     from .config import to_toml
+    from .kinematics import collar_many
     from .model import thinnest_many
 
     want = VARIABLES.keys() if variables is None else set(variables)
@@ -238,10 +242,13 @@ def collect(result, variables=None) -> Results:
     y = np.ascontiguousarray(model.planar_state(y_state))  # the in-plane block of the spatial model
     q, q_dot = np.ascontiguousarray(y[:, :N]), np.ascontiguousarray(y[:, N:])
     x = np.linspace(0.0, L, cfg.output.x_points)
-    kin = model.motion(t)
-    x_star = np.ascontiguousarray(np.broadcast_to(kin.x_star, t.shape), dtype=float)
-    V_r = np.ascontiguousarray(np.broadcast_to(kin.V_r, t.shape), dtype=float)
     compiled = model.compiled
+    if compiled and model.params.spatial is None and model.motion.table() is not None:
+        x_star, V_r = collar_many(t, p.motion)
+    else:
+        kin = model.motion(t)
+        x_star = np.ascontiguousarray(np.broadcast_to(kin.x_star, t.shape), dtype=float)
+        V_r = np.ascontiguousarray(np.broadcast_to(kin.V_r, t.shape), dtype=float)
     data = {
         "q": _entry("q", q),
         "q_dot": _entry("q_dot", q_dot),
