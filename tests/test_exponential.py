@@ -76,8 +76,7 @@ def fixed_steps(h, t_end, p):
     E.init(forced, p, W, fst, ist)
     t = 0.0
     for _ in range(int(round(t_end / h))):
-        E._tables(W, h, 0.5, E.R_HALF, 4)
-        E._tables(W, h, 1.0, E.R_ONE, 5)
+        E._step_tables(W, h)
         E._stages(forced, p, W, ist, t, h)
         W[R_Y] = W[E.R_YNEW]
         t += h
@@ -126,6 +125,34 @@ def test_dense_output_is_of_order_four():
         errors.append(err)
     slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
     assert slope > 4.5, (errors, slope)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])
+@pytest.mark.parametrize("h", [1e-3, -0.02])
+def test_tables_by_doubling_are_the_phi_functions_of_the_step(zeta, h):
+    """``phi_k`` of ``(h/2) A`` and ``h A`` doubled from ``(h/4) A`` = evaluated directly (phi.py),
+    applied to a state ``(1/omega, 1)``: within 1e-13 of the scale of ``phi_k``, ``1/k!`` (times
+    the growth of a damped block backwards), from ``h omega`` = 0.01 to 1e3."""
+    top = 1e3 if h > 0 else min(1e3, 30.0 / max(zeta, 0.03))  # backwards a damped block grows as exp(zeta omega |h|)
+    omega = np.geomspace(0.01, top, 41) / abs(h)
+    N = omega.size
+    x, v = 1.0 / omega, np.ones(N)
+    growth = np.exp(np.maximum(0.0, -(zeta + np.sqrt(max(zeta * zeta - 1.0, 0.0))) * omega * h))
+    scale = (x + v) * growth / np.array([1.0, 1.0, 2.0, 6.0, 24.0])[:, None]
+
+    def applied(T):
+        a, b = T[:, :N], T[:, N:]
+        return np.abs(a * x + b * v) + np.abs(a * v + b * (-omega**2 * x - 2 * zeta * omega * v))
+
+    W = np.zeros((E.rows(2 * N), 2 * N))
+    E.setup(W, np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64), {"omega": omega, "zeta": zeta})
+    E._step_tables(W, h)
+    doubled = W[E.R_HALF:E.R_HALF + 5].copy(), W[E.R_ONE:E.R_ONE + 5].copy()
+    E._tables(W, h, 0.5, E.R_HALF, 5)
+    E._tables(W, h, 1.0, E.R_ONE, 5)
+    for got, row in zip(doubled, (E.R_HALF, E.R_ONE)):
+        ref = W[row:row + 5]
+        assert np.all(applied(got - ref) <= 1e-13 * (scale + applied(ref))), row
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])

@@ -70,11 +70,11 @@ R_YNEW = R_FU + 1
 R_ERR = R_YNEW + 1
 R_GNEW = R_ERR + 1  # G at the new state of an attempted step
 R_Q = R_GNEW + 1  # the cubic for G over the last step, in powers of sigma = (t - t_n) / h: 4 rows
-R_HALF = R_Q + 4  # phi_0..phi_3 of (h/2) A: rows [a_1..a_N, b_1..b_N]
-R_ONE = R_HALF + 4  # phi_0..phi_4 of h A
+R_HALF = R_Q + 4  # phi_0..phi_4 of (h/2) A: rows [a_1..a_N, b_1..b_N]
+R_ONE = R_HALF + 5  # phi_0..phi_4 of h A
 R_THETA = R_ONE + 5  # phi_0..phi_4 of theta h A (dense output)
-R_QUARTER = R_THETA + 5  # phi_0..phi_3 of (h/4) A
-R_PART = R_QUARTER + 4  # the dense output's polynomial particular solution over the last step: 4 rows (powers of tau)
+R_QUARTER = R_THETA + 5  # phi_0..phi_4 of (h/4) A
+R_PART = R_QUARTER + 5  # the dense output's polynomial particular solution over the last step: 4 rows (powers of tau)
 R_FREE = R_PART + 4  # its free part at tau = 0, y_n - P(0)
 R_TURN = R_FREE + 1  # (A + zeta omega I) R_FREE / omega_d
 R_LAST = R_TURN + 1  # exp(lambda tau) of each block at the last sample, [Re_1..Re_N, Im_1..Im_N]
@@ -129,6 +129,51 @@ def _tables(W, h, c, row, K):
     N = W.shape[1] // 2
     for i in range(N):
         _table_block(W, c * h, row, K, i)
+
+
+@jitable
+def _step_tables(W, h):
+    """The tables of a step: ``phi_0..phi_4`` of ``(h/4) A`` (:func:`_tables`), then of ``(h/2) A``
+    and ``h A`` by doubling (:func:`_double`): one evaluation of the phi-functions per block instead
+    of three (the tables cost 3.1 of the 8.5 us of a step on ``paper-dry``, 5 modes, where the step changes)."""
+    _tables(W, h, 0.25, R_QUARTER, 5)
+    _double(W, R_QUARTER, R_HALF)
+    _double(W, R_HALF, R_ONE)
+
+
+#: ``1 / j!``, j = 0..4.
+_INV_FACTORIAL = (1.0, 1.0, 0.5, 1.0 / 6.0, 1.0 / 24.0)
+
+
+@jitable
+def _double(W, src, dst):
+    """Rows ``dst ..``: ``phi_k(2 Z)``, k = 0..4, from ``phi_k(Z)`` in rows ``src ..`` (``Z = c h A``).
+
+    ``phi_k(2 Z) = 2^-k [phi_0(Z) phi_k(Z) + sum_(j=1..k) phi_j(Z) / (k - j)!]`` (the doubling of
+    scaling and squaring; Skaflestad & Wright, *The scaling and modified squaring method for matrix
+    functions related to the exponential*, Appl. Numer. Math. 59 (2009) 783-799). Every table is
+    ``a I + b A`` of the block's ``A``, and ``A^2 = -2 zeta omega A - omega^2 I``, so a product is
+    ``(a1 a2 - omega^2 b1 b2) I + (a1 b2 + a2 b1 - 2 zeta omega b1 b2) A``.
+    """
+    N = W.shape[1] // 2
+    for i in range(N):
+        om = W[R_LIN, i]
+        two_zo = 2.0 * W[R_LIN, N + i] * om
+        om2 = om * om
+        a0 = W[src, i]
+        b0 = W[src, N + i]
+        scale = 1.0
+        for k in range(5):
+            ak = W[src + k, i]
+            bk = W[src + k, N + i]
+            a = a0 * ak - om2 * b0 * bk
+            b = a0 * bk + ak * b0 - two_zo * b0 * bk
+            for j in range(1, k + 1):
+                a += W[src + j, i] * _INV_FACTORIAL[k - j]
+                b += W[src + j, N + i] * _INV_FACTORIAL[k - j]
+            W[dst + k, i] = a * scale
+            W[dst + k, N + i] = b * scale
+            scale *= 0.5
 
 
 @jitable
@@ -356,9 +401,7 @@ def step(rhs, p, W, fst, ist):
             t_new = fst[F_TEND]
         h = t_new - t
         if h != fst[F_HOLD]:
-            _tables(W, h, 0.25, R_QUARTER, 4)
-            _tables(W, h, 0.5, R_HALF, 4)
-            _tables(W, h, 1.0, R_ONE, 5)
+            _step_tables(W, h)
             fst[F_HOLD] = h
         _stages(rhs, p, W, ist, t, h)
         err = scaled_rms(W[R_ERR], W[R_Y], W[R_YNEW], W)
