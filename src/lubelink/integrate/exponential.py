@@ -191,13 +191,6 @@ def _table_block(W, ch, row, K, i):
 
 
 @jitable
-def _zero(W, row):
-    """``W[row] = 0``."""
-    for m in range(W.shape[1]):
-        W[row, m] = 0.0
-
-
-@jitable
 def _combine(W, dst, c1, r1, c2, r2, c3, r3):
     """``W[dst] = c1 W[r1] + c2 W[r2] + c3 W[r3]``."""
     for m in range(W.shape[1]):
@@ -205,11 +198,30 @@ def _combine(W, dst, c1, r1, c2, r2, c3, r3):
 
 
 @jitable
-def _apply(W, row, src, dst, scale):
-    """``W[dst] += scale * phi(c h A) W[src]`` for the table in row ``row``."""
+def _phi_sum(W, dst, rows, srcs, scales):
+    """``W[dst] = sum_k scales[k] phi_k W[srcs[k]]`` with ``phi_k`` the table in row ``rows[k]`` (tuples).
+
+    Every table is ``a I + b A`` of the block's ``A``, so per block the sum is
+    ``sum_k a_k g_k + A sum_k b_k g_k``: one product with ``A`` for all the terms.
+    """
     N = W.shape[1] // 2
     for i in range(N):
-        _apply_block(W, row, src, dst, scale, i)
+        rx = 0.0
+        rv = 0.0
+        sx = 0.0
+        sv = 0.0
+        for k in range(len(rows)):
+            a = scales[k] * W[rows[k], i]
+            b = scales[k] * W[rows[k], N + i]
+            gx = W[srcs[k], i]
+            gv = W[srcs[k], N + i]
+            rx += a * gx
+            rv += a * gv
+            sx += b * gx
+            sv += b * gv
+        om = W[R_LIN, i]
+        W[dst, i] = rx + sv
+        W[dst, N + i] = rv - om * om * sx - 2.0 * W[R_LIN, N + i] * om * sv
 
 
 @jitable
@@ -246,57 +258,36 @@ def _stage(rhs, p, W, ist, t, row_g):
 @jitable
 def _stages(rhs, p, W, ist, t, h):
     """Stages 2 to 5 of the Hochbruck-Ostermann method, ``y_{n+1}`` into ``R_YNEW``, the error estimate into ``R_ERR``."""
-    n = W.shape[1]
     G1, G2, G3, G4, G5 = R_G, R_G + 1, R_G + 2, R_G + 3, R_G + 4
     H0, H1, H2, H3 = R_HALF, R_HALF + 1, R_HALF + 2, R_HALF + 3
     O0, O1, O2, O3 = R_ONE, R_ONE + 1, R_ONE + 2, R_ONE + 3
-    U, E = R_U, R_ERR
+    U, E, S = R_U, R_ERR, R_GNEW  # (R_GNEW: scratch until the new state's load)
     # U_2 = phi_0(h/2) y + h/2 phi_1(h/2) G_1
-    _zero(W, U)
-    _apply(W, H0, R_Y, U, 1.0)
-    _apply(W, H1, G1, U, 0.5 * h)
+    _phi_sum(W, U, (H0, H1), (R_Y, G1), (1.0, 0.5 * h))
     _stage(rhs, p, W, ist, t + 0.5 * h, G2)
     # U_3 = phi_0(h/2) y + h [(phi_1(h/2)/2 - phi_2(h/2)) G_1 + phi_2(h/2) G_2]
-    _zero(W, U)
-    _apply(W, H0, R_Y, U, 1.0)
-    _apply(W, H1, G1, U, 0.5 * h)
     _combine(W, E, 1.0, G2, -1.0, G1, 0.0, G1)
-    _apply(W, H2, E, U, h)
+    _phi_sum(W, U, (H0, H1, H2), (R_Y, G1, E), (1.0, 0.5 * h, h))
     _stage(rhs, p, W, ist, t + 0.5 * h, G3)
     # U_4 = phi_0(h) y + h [(phi_1(h) - 2 phi_2(h)) G_1 + phi_2(h) (G_2 + G_3)]
-    _zero(W, U)
-    _apply(W, O0, R_Y, U, 1.0)
-    _apply(W, O1, G1, U, h)
     _combine(W, E, 1.0, G2, 1.0, G3, -2.0, G1)
-    _apply(W, O2, E, U, h)
+    _phi_sum(W, U, (O0, O1, O2), (R_Y, G1, E), (1.0, h, h))
     _stage(rhs, p, W, ist, t + h, G4)
     # U_5 = phi_0(h/2) y + h [phi_1(h/2)/2 G_1 + phi_2(h/2)/4 (G_4 - G_1) + a_52 D],
     # D = G_2 + G_3 - G_1 - G_4, a_52 = phi_2(h/2)/2 - phi_3(h/2)/2 + phi_2(h)/4 - phi_3(h)
-    _zero(W, U)
-    _apply(W, H0, R_Y, U, 1.0)
-    _apply(W, H1, G1, U, 0.5 * h)
-    _combine(W, E, 1.0, G4, -1.0, G1, 0.0, G1)
-    _apply(W, H2, E, U, 0.25 * h)
-    for m in range(n):
-        W[E, m] = W[G2, m] + W[G3, m] - W[G1, m] - W[G4, m]
-    _apply(W, H2, E, U, 0.5 * h)
-    _apply(W, H3, E, U, -0.5 * h)
-    _apply(W, O2, E, U, 0.25 * h)
-    _apply(W, O3, E, U, -h)
+    for m in range(W.shape[1]):
+        d = W[G2, m] + W[G3, m] - W[G1, m] - W[G4, m]
+        W[E, m] = d
+        W[S, m] = 0.25 * (W[G4, m] - W[G1, m]) + 0.5 * d  # the phi_2(h/2) terms
+    _phi_sum(W, U, (H0, H1, H2, H3, O2, O3), (R_Y, G1, S, E, E, E), (1.0, 0.5 * h, h, -0.5 * h, 0.25 * h, -h))
     _stage(rhs, p, W, ist, t + 0.5 * h, G5)
     # y_new = phi_0(h) y + h [(phi_1 - 3 phi_2 + 4 phi_3) G_1 + (4 phi_3 - phi_2) G_4 + (4 phi_2 - 8 phi_3) G_5]
-    _zero(W, R_YNEW)
-    _apply(W, O0, R_Y, R_YNEW, 1.0)
-    _apply(W, O1, G1, R_YNEW, h)
     _combine(W, E, -3.0, G1, -1.0, G4, 4.0, G5)
-    _apply(W, O2, E, R_YNEW, h)
-    _combine(W, E, 4.0, G1, 4.0, G4, -8.0, G5)
-    _apply(W, O3, E, R_YNEW, h)
+    _combine(W, S, 4.0, G1, 4.0, G4, -8.0, G5)
+    _phi_sum(W, R_YNEW, (O0, O1, O2, O3), (R_Y, G1, E, S), (1.0, h, h, h))
     # error estimate h (2 phi_2 - 4 phi_3)(h) (2 G_5 - G_2 - G_3), into R_ERR
     _combine(W, U, 2.0, G5, -1.0, G2, -1.0, G3)
-    _zero(W, E)
-    _apply(W, O2, U, E, 2.0 * h)
-    _apply(W, O3, U, E, -4.0 * h)
+    _phi_sum(W, E, (O2, O3), (U, U), (2.0 * h, -4.0 * h))
 
 
 @jitable
@@ -309,13 +300,10 @@ def _extension3(W, h, theta, row_phi, r_y, r_g1, r_g4, r_g5, r_out):
     three at ``theta``, and the step's weights at ``theta = 1``. Rows ``r_*`` hold ``y_n`` and
     the stage loads; rows ``row_phi ..`` the tables of ``phi_0 .. phi_3`` of ``theta h A``.
     """
-    _zero(W, r_out)
-    _apply(W, row_phi, r_y, r_out, 1.0)
-    _apply(W, row_phi + 1, r_g1, r_out, theta * h)
     _combine(W, R_U, -3.0, r_g1, -1.0, r_g4, 4.0, r_g5)  # the phi_2 terms: theta^2 (-3 G_1 - G_4 + 4 G_5)
-    _apply(W, row_phi + 2, R_U, r_out, theta * theta * h)
-    _combine(W, R_U, 4.0, r_g1, 4.0, r_g4, -8.0, r_g5)  # the phi_3 terms: theta^3 (4 G_1 + 4 G_4 - 8 G_5)
-    _apply(W, row_phi + 3, R_U, r_out, theta**3 * h)
+    _combine(W, R_FU, 4.0, r_g1, 4.0, r_g4, -8.0, r_g5)  # the phi_3 terms: theta^3 (4 G_1 + 4 G_4 - 8 G_5)
+    _phi_sum(W, r_out, (row_phi, row_phi + 1, row_phi + 2, row_phi + 3), (r_y, r_g1, R_U, R_FU),
+             (1.0, theta * h, theta * theta * h, theta**3 * h))
 
 
 #: Monomial coefficients of the cubic through ``sigma = 1/4, 1/2, 1`` (values minus the one at 0).
@@ -359,12 +347,8 @@ def _cubic_solution(W, h, row_phi, r_y, theta, r_out):
     exactly (``int_0^tau exp((tau - s) A) s^k ds = k! tau^(k+1) phi_(k+1)(tau A)``); ``row_phi``
     holds ``phi_0 .. phi_4`` of ``theta h A``.
     """
-    _zero(W, r_out)
-    _apply(W, row_phi, r_y, r_out, 1.0)
-    factorial = 1.0
-    for k in range(4):
-        _apply(W, row_phi + k + 1, R_Q + k, r_out, factorial * theta ** (k + 1) * h)
-        factorial *= k + 1
+    _phi_sum(W, r_out, (row_phi, row_phi + 1, row_phi + 2, row_phi + 3, row_phi + 4), (r_y, R_Q, R_Q + 1, R_Q + 2, R_Q + 3),
+             (1.0, theta * h, theta**2 * h, 2.0 * theta**3 * h, 6.0 * theta**4 * h))
 
 
 @kernel
