@@ -127,42 +127,6 @@ def test_dense_output_is_of_order_four():
     assert slope > 4.5, (errors, slope)
 
 
-def test_dense_output_through_the_previous_step_is_of_order_four():
-    """The second step of a segment takes its cubic through the first step's start and its own fifth
-    stage (no evaluation): from an exact state, two steps of size h, the interpolant's error inside
-    the second is ~h^5, and it took five evaluations."""
-    from lubelink.integrate._layout import F_H, S_NFEV
-
-    p = np.array([0.0, 2.0, 3.0, 50.0])
-    t0 = 0.3
-    hs = np.array([0.08, 0.04, 0.02, 0.01])
-    grid = np.concatenate([[t0 - h, t0 + 0.37 * h, t0 + 0.5 * h, t0 + 0.81 * h] for h in hs] + [[t0]])
-    order = np.argsort(grid)
-    ref = np.empty((grid.size, 2))
-    ref[order] = run_exp(p, grid.max(), rtol=1e-13, atol=1e-18, t_eval=grid[order]).y
-    errors = []
-    for k, h in enumerate(hs):
-        W = np.zeros((E.rows(2), 2))
-        fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
-        E.setup(W, fst, ist, {"omega": p[3:], "zeta": p[0]})
-        W[R_Y], W[R_ATOL], W[R_RTOL] = ref[4 * k], 1e3, 1e3  # accept whatever the error
-        fst[F_DIR], fst[F_TEND], fst[F_MAXSTEP], fst[F_T] = 1.0, t0 + h, h, t0 - h
-        E.init(forced, p, W, fst, ist)
-        for _ in range(2):
-            fst[F_H] = h
-            before = ist[S_NFEV]
-            assert E.step(forced, p, W, fst, ist)
-        assert ist[S_NFEV] - before == 5 and fst[E.F_HPREV] == pytest.approx(h)
-        out = np.empty(2)
-        err = 0.0
-        for j, theta in enumerate((0.37, 0.5, 0.81)):
-            E.dense(forced, p, W, fst, ist, t0 + theta * h, out)
-            err = max(err, abs(out[0] - ref[4 * k + 1 + j, 0]))
-        errors.append(err)
-    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
-    assert slope > 4.5, (errors, slope)
-
-
 @pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])
 @pytest.mark.parametrize("h", [1e-3, -0.02])
 def test_tables_by_doubling_are_the_phi_functions_of_the_step(zeta, h):

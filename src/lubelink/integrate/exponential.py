@@ -32,22 +32,17 @@ SciPy, exponent ``-1/4``):
   ``G_3``, differ from the step's by ``h (2 phi_2 - 4 phi_3)(hA) (2 G_5 - G_2 - G_3)``. It sees
   the error of the internal stages through the load's dependence on the state only: for a load
   that depends on time only (here the rigid-body inertia, the dominant load) it is exactly zero;
-* the quadrature's: the load is interpolated by a cubic in time through ``G`` at the start of
-  the previous step, at the start of this one, at ``1/2`` (the fifth stage) and at the new state
-  (on the first step of a segment: at the start, at ``1/4`` and ``1/2`` on the third-order
-  continuous extension, and at the new state), and the variation-of-constants formula integrated
-  exactly with it; its difference to the step is ``O(h^5)``, like the step's error. This cubic is
-  also the dense output, of order four.
+* the quadrature's: the load is interpolated by a cubic in time through ``G`` at the start, at
+  ``1/4`` and ``1/2`` of the step (on the third-order continuous extension) and at the new state,
+  and the variation-of-constants formula integrated exactly with it; its difference to the step
+  is ``O(h^5)``, like the step's error. This cubic is also the dense output, of order four.
   At a sample the dense output evaluates ``exp(tau A) (y_n - P(0)) + P(tau)`` with ``P`` the cubic
   particular solution of the block (one real ``exp``, ``cos``, ``sin`` per block, against five
   complex phi-functions: 2.6x cheaper a sample), and falls back to the phi-functions where
   ``h omega`` is small (``P`` would cancel) or the block is not underdamped.
 
-``G_1`` of a step is the load at the end of the previous one, so an accepted step costs five
-evaluations: four stages and the new state (the first step of a segment seven: and the two
-points of the extension). Through the previous step instead of the extension, the cubic left the
-steps and the errors as they were (``rtol`` 1e-5 to 1e-8, ``paper-dry`` and ``paper``, 5 to 15
-modes) for 5/7 of the evaluations: 17-21 % faster.
+``G_1`` of a step is the load at the end of the previous one, so an accepted step costs seven
+evaluations: four stages, the new state, and the two interpolation points.
 
 The phi-functions of the 2x2 blocks are those of :mod:`.phi`.
 """
@@ -84,23 +79,20 @@ R_FREE = R_PART + 4  # its free part at tau = 0, y_n - P(0)
 R_TURN = R_FREE + 1  # (A + zeta omega I) R_FREE / omega_d
 R_LAST = R_TURN + 1  # exp(lambda tau) of each block at the last sample, [Re_1..Re_N, Im_1..Im_N]
 R_ROT = R_LAST + 1  # exp(lambda F_DTAU) of each block, the same layout
-R_GPREV = R_ROT + 1  # G at the start of the last accepted step
-ROWS_END = R_GPREV + 1
-FLOATS = F_METHOD + 6
+ROWS_END = R_ROT + 1
+FLOATS = F_METHOD + 5
 F_HOLD = F_METHOD  # the step the R_HALF, R_ONE, R_QUARTER tables were made for
 F_PART = F_METHOD + 1  # 1: R_PART, R_FREE, R_TURN hold the last accepted step's; 0: not yet
 F_TAU = F_METHOD + 2  # tau of the last sample of this step (R_LAST); NaN: none yet
 F_DTAU = F_METHOD + 3  # the spacing of the samples R_ROT was made for (0: none)
 F_CHAIN = F_METHOD + 4  # samples since the last one computed directly
-F_HPREV = F_METHOD + 5  # the last accepted step (0: none in this segment)
 #: Smallest ``h omega`` at which the dense output of a block uses its particular solution (below,
 #: the phi-functions): the particular solution's terms grow like ``3! / (h omega)^4`` against the
 #: solution, and so does their rounding error (about 1e-13 of the state here).
 DENSE_H_OMEGA = 0.25
 #: A step accepted with a proposed change of its size by a factor in ``[KEEP_LOW, KEEP_HIGH]`` is
 #: kept, and so are its tables of phi-functions (the rule of Hairer & Wanner's RADAU5 for its LU
-#: factors; *Solving ODEs II*, IV.8): the tables cost about half as much as the five
-#: evaluations (1.3 against 2.3 us on ``paper-dry``, 5 modes).
+#: factors; *Solving ODEs II*, IV.8): the tables cost about as much as the seven evaluations.
 KEEP_LOW, KEEP_HIGH = 1.0, 1.2
 #: Largest damping ratio at which the dense output of a block uses its particular solution.
 DENSE_ZETA = 0.999
@@ -319,51 +311,17 @@ _CUBIC = np.linalg.inv(np.array([[s, s * s, s**3] for s in (0.25, 0.5, 1.0)]))
 
 
 @jitable
-def _cubic_weights(s1, s2, s3):
-    """The inverse of ``[[s_j, s_j^2, s_j^3]]`` (rows j = 1..3) by cofactors, as nested tuples: the
-    monomial coefficients of the cubic through ``(0, 0)`` and ``(s_j, d_j)`` from the ``d_j``."""
-    a11, a12, a13 = s1, s1 * s1, s1 ** 3
-    a21, a22, a23 = s2, s2 * s2, s2 ** 3
-    a31, a32, a33 = s3, s3 * s3, s3 ** 3
-    c11 = a22 * a33 - a23 * a32
-    c12 = a23 * a31 - a21 * a33
-    c13 = a21 * a32 - a22 * a31
-    det = a11 * c11 + a12 * c12 + a13 * c13
-    inv = 1.0 / det
-    return ((c11 * inv, (a13 * a32 - a12 * a33) * inv, (a12 * a23 - a13 * a22) * inv),
-            (c12 * inv, (a11 * a33 - a13 * a31) * inv, (a13 * a21 - a11 * a23) * inv),
-            (c13 * inv, (a12 * a31 - a11 * a32) * inv, (a11 * a22 - a12 * a21) * inv))
-
-
-@jitable
-def _load_cubic(rhs, p, W, fst, ist, t, h):
+def _load_cubic(rhs, p, W, ist, t, h):
     """The cubic ``G(t_n + sigma h) ~ sum_k Q_k sigma^k`` of the attempted step, into ``R_Q``.
 
     Through ``G`` at ``sigma = 0`` (``G_1``), ``1`` (``G`` of the new state, the next step's
-    ``G_1``, left in ``R_GNEW``: one evaluation) and, after an accepted step of this segment, at the
-    start of that step (``sigma = -h_prev / h``, its ``G_1``) and at ``1/2`` (the fifth stage's
-    ``G_5``); on a segment's first step at ``1/4`` and ``1/2`` on the third-order extension (two
-    more evaluations). Its interpolation error is ``O(h^4)`` either way. The stage at ``1/2``
-    serves as well as the extension's state there: the same steps and errors at ``rtol`` 1e-5 to
-    1e-8 on ``paper-dry`` and ``paper`` with 5 to 15 modes, in 5 evaluations a step instead of 6.
+    ``G_1``, left in ``R_GNEW``) and at ``1/4`` and ``1/2`` on the third-order extension: three
+    evaluations. Its interpolation error is ``O(h^4)``.
     """
     n = W.shape[1]
     rhs(t + h, W[R_YNEW], W[R_FU], p)
     ist[S_NFEV] += 1
     _load(W, R_YNEW, R_FU, R_GNEW)
-    r = fst[F_HPREV] / h
-    if r > 0.0:  # through the previous step's start and the fifth stage: no evaluation
-        w = _cubic_weights(-r, 0.5, 1.0)
-        for m in range(n):
-            g0 = W[R_G, m]
-            d1 = W[R_GPREV, m] - g0
-            d2 = W[R_G + 4, m] - g0
-            d3 = W[R_GNEW, m] - g0
-            W[R_Q, m] = g0
-            W[R_Q + 1, m] = w[0][0] * d1 + w[0][1] * d2 + w[0][2] * d3
-            W[R_Q + 2, m] = w[1][0] * d1 + w[1][1] * d2 + w[1][2] * d3
-            W[R_Q + 3, m] = w[2][0] * d1 + w[2][1] * d2 + w[2][2] * d3
-        return
     for j in range(2):
         sigma = 0.25 * (j + 1)
         _extension3(W, h, sigma, R_QUARTER if j == 0 else R_HALF, R_Y, R_G, R_G + 3, R_G + 4, R_ERR)
@@ -401,13 +359,12 @@ def init(rhs, p, W, fst, ist):
     _load(W, R_Y, R_F, R_G)
     fst[F_HOLD] = np.nan
     fst[F_PART] = 0.0
-    fst[F_HPREV] = 0.0
     fst[F_H] = initial_step(rhs, p, W, fst, ist, ORDER, W[R_U], W[R_FU])
 
 
 @kernel
 def step(rhs, p, W, fst, ist):
-    """One accepted step (five evaluations, seven on a segment's first); False if the step size underflows.
+    """One accepted step (seven evaluations); False if the step size underflows.
 
     The error is estimated twice: the stages' (``h (2 phi_2 - 4 phi_3)(hA) (2 G_5 - G_2 - G_3)``,
     the difference to Krogstad's third-order weights, blind to a load that depends on time only)
@@ -432,7 +389,7 @@ def step(rhs, p, W, fst, ist):
             fst[F_HOLD] = h
         _stages(rhs, p, W, ist, t, h)
         err = scaled_rms(W[R_ERR], W[R_Y], W[R_YNEW], W)
-        _load_cubic(rhs, p, W, fst, ist, t, h)
+        _load_cubic(rhs, p, W, ist, t, h)
         _cubic_solution(W, h, R_ONE, R_Y, 1.0, R_ERR)
         for m in range(n):
             W[R_ERR, m] -= W[R_YNEW, m]
@@ -452,11 +409,9 @@ def step(rhs, p, W, fst, ist):
     for m in range(n):
         W[R_YOLD, m] = W[R_Y, m]
         W[R_Y, m] = W[R_YNEW, m]
-        W[R_GPREV, m] = W[R_G, m]
         W[R_G, m] = W[R_GNEW, m]  # the next step's G_1
     fst[F_TOLD] = t
     fst[F_HSTEP] = h
-    fst[F_HPREV] = h
     fst[F_T] = t_new
     fst[F_H] = h_abs
     fst[F_PART] = 0.0
