@@ -92,7 +92,8 @@ F_CHAIN = F_METHOD + 4  # samples since the last one computed directly
 DENSE_H_OMEGA = 0.25
 #: A step accepted with a proposed change of its size by a factor in ``[KEEP_LOW, KEEP_HIGH]`` is
 #: kept, and so are its tables of phi-functions (the rule of Hairer & Wanner's RADAU5 for its LU
-#: factors; *Solving ODEs II*, IV.8): the tables cost about as much as the seven evaluations.
+#: factors; *Solving ODEs II*, IV.8): the tables cost about 40 % of the seven evaluations
+#: (1.3 against 3.2 us on ``paper-dry``, 5 modes).
 KEEP_LOW, KEEP_HIGH = 1.0, 1.2
 #: Largest damping ratio at which the dense output of a block uses its particular solution.
 DENSE_ZETA = 0.999
