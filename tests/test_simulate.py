@@ -248,7 +248,7 @@ def test_simultaneous_impacts_end_in_chatter_at_once():
 def test_default_tolerances_keep_the_deflection_within_a_micrometre(scenario, overrides):
     """At the default ``solver.rtol``, ``atol`` (each scenario's), the midpoint deflection stays within
     1 um of DOP853 at rtol 1e-12, atol 1e-14 over the whole run (issue 11's accuracy requirement; measured
-    0.0003-0.58 um, docs/model.md section 7.2), with the same impacts. A default loosened past its error
+    0.0002-0.28 um, docs/model.md section 7.2), with the same impacts. A default loosened past its error
     budget fails here."""
     ds = lubelink.simulate(scenario, set=overrides)
     ref = lubelink.simulate(scenario, set={**overrides, "solver.method": "DOP853", "solver.rtol": 1e-12,
