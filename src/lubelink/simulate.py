@@ -85,12 +85,14 @@ def domain_exit(model, y):
     beta = np.arange(1, model.modes + 1) * np.pi / L
     # |u2| <= sum |q_n| and |u2'| <= sum beta_n |q_n|: only the states these bounds do not clear are sampled,
     # and none when the bounds of the largest |q_n| of all states clear (NaN clears nothing)
-    top = np.abs(np.ascontiguousarray(q.T)).max(axis=1)  # (along rows of samples: 5x faster than axis=0)
-    if top.sum() / L <= limits[0] and (top * beta).sum() <= limits[1] and 0.25 * ((beta * top) ** 2).sum() <= limits[2]:
+    def cleared(a):  # a = |q|, shape (..., N)
+        strain = 0.25 * ((beta * a) ** 2).sum(axis=-1)
+        return (a.sum(axis=-1) / L <= limits[0]) & ((a * beta).sum(axis=-1) <= limits[1]) & (strain <= limits[2]), strain
+
+    if cleared(np.abs(np.ascontiguousarray(q.T)).max(axis=1))[0]:  # (along rows of samples: 5x faster than axis=0)
         return None
-    a = np.abs(q)
-    strain = 0.25 * ((beta * q) ** 2).sum(axis=1)
-    check = ~((a.sum(axis=1) / L <= limits[0]) & ((a * beta).sum(axis=1) <= limits[1]) & (strain <= limits[2]))
+    ok, strain = cleared(np.abs(q))
+    check = ~ok
     if not check.any():
         return None
     m = np.zeros((q.shape[0], 3))

@@ -470,14 +470,16 @@ def _rotations(W, d):
     """
     N = W.shape[1] // 2
     for i in range(N):
-        if not W[R_LIN, N + i] < DENSE_ZETA:
-            continue
-        om = W[R_LIN, i]
-        zeta = W[R_LIN, N + i]
-        decay = math.exp(-zeta * om * d)
-        angle = om * math.sqrt(1.0 - zeta * zeta) * d
-        W[R_ROT, i] = decay * math.cos(angle)
-        W[R_ROT, N + i] = decay * math.sin(angle)
+        if W[R_LIN, N + i] < DENSE_ZETA:
+            W[R_ROT, i], W[R_ROT, N + i] = _exp_lambda(W[R_LIN, i], W[R_LIN, N + i], d)
+
+
+@jitable
+def _exp_lambda(om, zeta, tau):
+    """``exp(lambda tau)`` of an underdamped block as ``(Re, Im)``, ``lambda = -zeta omega + i omega_d``."""
+    decay = math.exp(-zeta * om * tau)
+    angle = om * math.sqrt(1.0 - zeta * zeta) * tau
+    return decay * math.cos(angle), decay * math.sin(angle)
 
 
 @kernel
@@ -542,10 +544,7 @@ def dense(rhs, p, W, fst, ist, t, out):
             c = W[R_LAST, i] * rr - W[R_LAST, N + i] * ri
             s = W[R_LAST, i] * ri + W[R_LAST, N + i] * rr
         else:
-            decay = math.exp(-zeta * om * tau)
-            angle = om * math.sqrt(1.0 - zeta * zeta) * tau
-            c = decay * math.cos(angle)
-            s = decay * math.sin(angle)
+            c, s = _exp_lambda(om, zeta, tau)
         if sample:
             W[R_LAST, i] = c
             W[R_LAST, N + i] = s
