@@ -1,8 +1,8 @@
-"""The exponential integrator against independent references (its phi-functions: test_phi.py).
+"""The exponential integrator against independent references (its phi-functions: test_phi.py, its
+dense output: test_exponential_dense.py).
 
 * a free damped oscillator is integrated exactly, whatever the step;
 * order four, fixed steps, on a forced oscillator with a nonlinear load (the fitted slope);
-* the dense output of order four (local error ~ h^5);
 * with adaptive steps, the error follows the tolerance and the number of steps does not grow with
   the stiffest frequency (the point of the method).
 """
@@ -13,7 +13,7 @@ import pytest
 from lubelink._jit import kernel
 from lubelink.integrate import exponential as E
 from lubelink.integrate import integrate, method
-from lubelink.integrate._layout import F_DIR, F_MAXSTEP, F_T, F_TEND, R_ATOL, R_F, R_RTOL, R_Y
+from lubelink.integrate._layout import F_DIR, F_MAXSTEP, F_TEND, R_ATOL, R_F, R_RTOL, R_Y
 
 
 # --------------------------------------------------------------------------------------------------
@@ -95,38 +95,6 @@ def test_order_four_with_fixed_steps():
     assert 3.8 < slope < 4.6, (errors, slope)
 
 
-def test_dense_output_is_of_order_four():
-    """One step of size h from an exact state: the interpolant's error inside the step is ~h^5."""
-    from lubelink.integrate._layout import F_H, F_HSTEP, F_TOLD, R_YOLD, S_DENSE
-
-    p = np.array([0.0, 2.0, 3.0, 50.0])
-    t0 = 0.3
-    hs = np.array([0.08, 0.04, 0.02, 0.01])
-    grid = np.concatenate([[t0 + 0.37 * h, t0 + 0.5 * h, t0 + 0.81 * h] for h in hs] + [[t0]])
-    order = np.argsort(grid)
-    ref = np.empty((grid.size, 2))
-    ref[order] = run_exp(p, grid.max(), rtol=1e-13, atol=1e-18, t_eval=grid[order]).y
-    y0 = ref[-1]
-    errors = []
-    for k, h in enumerate(hs):
-        W = np.zeros((E.rows(2), 2))
-        fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
-        E.setup(W, fst, ist, {"omega": p[3:], "zeta": p[0]})
-        W[R_Y], W[R_ATOL], W[R_RTOL] = y0, 1e3, 1e3  # accept whatever the error
-        fst[F_DIR], fst[F_TEND], fst[F_MAXSTEP], fst[F_T] = 1.0, t0 + h, h, t0
-        E.init(forced, p, W, fst, ist)
-        fst[F_H] = h
-        assert E.step(forced, p, W, fst, ist) and fst[F_HSTEP] == pytest.approx(h)
-        out = np.empty(2)
-        err = 0.0
-        for j, theta in enumerate((0.37, 0.5, 0.81)):
-            E.dense(forced, p, W, fst, ist, t0 + theta * h, out)
-            err = max(err, abs(out[0] - ref[3 * k + j, 0]))
-        errors.append(err)
-    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
-    assert slope > 4.5, (errors, slope)
-
-
 @pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])
 @pytest.mark.parametrize("h", [1e-3, -0.02])
 def test_tables_by_doubling_are_the_phi_functions_of_the_step(zeta, h):
@@ -153,62 +121,6 @@ def test_tables_by_doubling_are_the_phi_functions_of_the_step(zeta, h):
     for got, row in zip(doubled, (E.R_HALF, E.R_ONE)):
         ref = W[row:row + 5]
         assert np.all(applied(got - ref) <= 1e-13 * (scale + applied(ref))), row
-
-
-@pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])
-@pytest.mark.parametrize("h", [1e-3, -0.02])
-def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, h):
-    """The two exact integrals of a step with a cubic load agree to rounding, from h omega = 0.01 to 1e3.
-
-    The dense output takes ``exp(tau A) (y_n - P(0)) + P(tau)`` with the polynomial particular
-    solution ``P`` for ``h omega >= 0.25`` (underdamped), the phi-functions below; here both see the
-    same random state and cubic, on either side of the switch and backwards in time.
-    """
-    from lubelink.integrate._layout import F_HSTEP, F_TOLD, R_YOLD
-
-    top = 1e3 if h > 0 else min(1e3, 30.0 / max(zeta, 0.03))  # backwards a damped block grows as exp(zeta omega |h|)
-    omega = np.geomspace(0.01, top, 25) / abs(h)
-    N = omega.size
-    rng = np.random.default_rng(7)
-    W = np.zeros((E.rows(2 * N), 2 * N))
-    fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
-    E.setup(W, fst, ist, {"omega": omega, "zeta": zeta})
-    W[R_YOLD] = rng.normal(size=2 * N) * np.concatenate([1.0 / omega, np.ones(N)])
-    W[E.R_Q:E.R_Q + 4] = rng.normal(size=(4, 2 * N))
-    fst[F_HSTEP], fst[F_TOLD] = h, 0.3
-    for dense in (E.dense, E.dense.py_func):
-        fst[E.F_PART] = 0.0
-        for theta in (0.1, 0.5, 0.93, 1.0):
-            out = np.empty(2 * N)
-            t = 0.3 + theta * h
-            dense(forced, np.zeros(3 + N), W, fst, ist, t, out)
-            theta = (t - 0.3) / h  # as the dense output sees it
-            E._tables(W, h, theta, E.R_THETA, 5)
-            E._cubic_solution(W, h, E.R_THETA, R_YOLD, theta, E.R_ERR)
-            ref = W[E.R_ERR].copy()
-            rate = (zeta + np.sqrt(max(zeta * zeta - 1.0, 0.0))) * omega  # of the fastest-growing solution backwards
-            growth = np.tile(np.exp(np.maximum(0.0, -rate * theta * h)), 2)
-            scale = (np.abs(W[R_YOLD]) + abs(h) * np.abs(W[E.R_Q:E.R_Q + 4]).sum(axis=0)) * growth
-            np.testing.assert_array_less(np.abs(out - ref), 1e-12 * scale)
-    used = ~np.isnan(W[E.R_TURN, :N])
-    assert used.sum() == (np.count_nonzero(omega * abs(h) >= E.DENSE_H_OMEGA) if zeta < E.DENSE_ZETA else 0)
-
-
-@pytest.mark.parametrize("zeta", [0.0, 0.05])
-def test_dense_output_chained_along_the_samples_is_the_direct_one(zeta, monkeypatch):
-    """Along ``t_eval`` the dense output takes ``exp(lambda tau)`` from the previous sample's by one
-    rotation; computed directly at every sample instead (``CHAIN_LENGTH = 0``, the Python source)
-    it agrees to 1e-13 of the solution's scale, on a grid of two spacings (the second needs new
-    rotations) and over long steps of up to 60 samples (``h omega`` from 0.1 to 200)."""
-    p = np.array([zeta, 0.0, 3.0, 2.0, 40.0, 700.0, 4000.0])
-    t_eval = np.concatenate([np.arange(1, 1500) * 1e-3, 1.5 + np.arange(1, 800) * 7e-4])
-    chained = run_exp(p, t_eval[-1], rtol=1e-5, atol=1e-9, t_eval=t_eval, compiled=False)
-    assert chained.nsteps < t_eval.size / 20  # long steps: many samples each
-    monkeypatch.setattr(E, "CHAIN_LENGTH", 0)
-    direct = run_exp(p, t_eval[-1], rtol=1e-5, atol=1e-9, t_eval=t_eval, compiled=False)
-    assert direct.nsteps == chained.nsteps
-    scale = np.abs(direct.y).max(axis=0)
-    np.testing.assert_array_less(np.abs(chained.y - direct.y) / scale, 1e-13)
 
 
 def test_error_follows_the_tolerance():

@@ -1,18 +1,19 @@
 """Time integration: methods that know nothing of the physics, one driver for all of them.
 
-===================  ============================================================================
-module               job
-===================  ============================================================================
-``_layout``          the integration state (work arrays) shared by the driver and the methods
-``control``          error norm, starting step, step-size factor
-``events``           locating a zero of the event function inside a step, grazes included
-``driver``           the integration loop (compiled or Python), ``integrate`` and ``Segment``
-``dop853``           Dormand-Prince 8(5,3) with dense output
-``bulirsch_stoer``   Gragg-Bulirsch-Stoer extrapolation; also as a SciPy ``OdeSolver``
-``exponential``      exponential Runge-Kutta for damped oscillators with a nonlinear load
-``phi``              the phi-functions of a damped oscillator's 2x2 block (for ``exponential``)
-``scipy_methods``    SciPy's RK45, Radau, BDF, LSODA behind the driver's method interface
-===================  ============================================================================
+=====================  ============================================================================
+module                 job
+=====================  ============================================================================
+``_layout``            the integration state (work arrays) shared by the driver and the methods
+``control``            error norm, starting step, step-size factor
+``events``             locating a zero of the event function inside a step, grazes included
+``driver``             the integration loop (compiled or Python), ``integrate`` and ``Segment``
+``dop853``             Dormand-Prince 8(5,3) with dense output
+``bulirsch_stoer``     Gragg-Bulirsch-Stoer extrapolation; also as a SciPy ``OdeSolver``
+``exponential``        exponential Runge-Kutta for damped oscillators with a nonlinear load
+``exponential_dense``  its dense output, through the particular solution of each block
+``phi``                the phi-functions of a damped oscillator's 2x2 block (for ``exponential``)
+``scipy_methods``      SciPy's RK45, Radau, BDF, LSODA behind the driver's method interface
+=====================  ============================================================================
 
 Nothing here imports a physics module: the right-hand side, the event and its rate arrive as
 arguments.
@@ -26,8 +27,10 @@ from .scipy_methods import SCIPY_METHODS, scipy_method
 
 __all__ = ["METHODS", "COMPILED_METHODS", "SCIPY_METHODS", "method", "integrate", "Method", "Segment"]
 
-#: Methods whose loop runs compiled, and their modules (imported when first asked for).
-_COMPILED = {"DOP853": "dop853", "bulirsch-stoer": "bulirsch_stoer", "exponential": "exponential"}
+#: Methods whose loop runs compiled, and their modules (imported when first asked for); a method's
+#: dense output lives in its module, or in the second module named.
+_COMPILED = {"DOP853": ("dop853",), "bulirsch-stoer": ("bulirsch_stoer",),
+             "exponential": ("exponential", "exponential_dense")}
 COMPILED_METHODS = tuple(_COMPILED)
 #: Every method name.
 METHODS = COMPILED_METHODS + SCIPY_METHODS
@@ -35,8 +38,9 @@ METHODS = COMPILED_METHODS + SCIPY_METHODS
 
 @lru_cache(maxsize=None)
 def _compiled(name):
-    module = import_module(f".{_COMPILED[name]}", __name__)
-    return Method({"bulirsch-stoer": "BulirschStoer"}.get(name, name), module.init, module.step, module.dense,
+    module, *dense = (import_module(f".{m}", __name__) for m in _COMPILED[name])
+    dense = dense[0].dense if dense else module.dense
+    return Method({"bulirsch-stoer": "BulirschStoer"}.get(name, name), module.init, module.step, dense,
                   module.rows, floats=getattr(module, "FLOATS", 32), ints=getattr(module, "INTS", 16),
                   setup=getattr(module, "setup", None))
 

@@ -1,0 +1,180 @@
+"""Dense output of the exponential method (:mod:`.exponential`): its step's solution at any time inside it.
+
+The step's solution with its load replaced by the cubic interpolant of the step's error estimate
+(:func:`.exponential._load_cubic`), integrated exactly: fourth order, like the step. At a sample
+the dense output evaluates ``exp(tau A) (y_n - P(0)) + P(tau)``, with ``P`` the cubic particular
+solution of the block (:func:`_particular`): one real ``exp``, ``cos``, ``sin`` per block, against
+five complex phi-functions (2.6x cheaper a sample); along the samples of ``t_eval``,
+``exp(lambda tau)`` follows from the previous sample's by one rotation (:data:`CHAIN_LENGTH`).
+Where ``h omega`` is small (``P`` would cancel) or the block is not underdamped, it falls back to
+the phi-functions (:func:`.exponential._cubic_solution`'s formula); the two agree to rounding.
+
+This is the method's ``dense`` (:class:`lubelink.integrate.Method`); the rows and floats it uses
+are laid out in :mod:`.exponential`.
+"""
+
+import math
+
+import numpy as np
+
+from lubelink._jit import jitable, kernel
+from ._layout import F_HSTEP, F_TOLD, R_YOLD, S_SAMPLE
+from .exponential import (F_CHAIN, F_DTAU, F_PART, F_TAU, R_FREE, R_LAST, R_LIN, R_PART, R_Q, R_ROT, R_THETA, R_TURN,
+                          R_U, _apply_block, _table_block)
+
+__all__ = ["dense"]
+
+#: Smallest ``h omega`` at which the dense output of a block uses its particular solution (below,
+#: the phi-functions): the particular solution's terms grow like ``3! / (h omega)^4`` against the
+#: solution, and so does their rounding error (about 1e-13 of the state here).
+DENSE_H_OMEGA = 0.25
+#: Largest damping ratio at which the dense output of a block uses its particular solution.
+DENSE_ZETA = 0.999
+#: Samples of ``t_eval`` in a row whose ``exp(lambda tau)`` follows from the previous sample's
+#: by one rotation ``exp(lambda dtau)`` (a complex product instead of an ``exp``, ``cos`` and
+#: ``sin``), before one is computed directly again: the rounding of the products, a few units of
+#: the last place each, stays below 1e-14 of the free oscillation.
+CHAIN_LENGTH = 32
+#: Relative difference of two spacings of samples within which the rotation of one serves the
+#: other, with the first-order correction ``1 + lambda (d - dtau)`` (its error ``(lambda (d - dtau))^2 / 2``
+#: is below 1e-18 for ``|lambda dtau| < 1e3``); sample times differ from a uniform grid by rounding only.
+CHAIN_MATCH = 1e-9
+
+
+
+
+@jitable
+def _particular(W, h):
+    """Per block, the cubic polynomial solution ``P`` of ``y' = A y + G(tau)`` for the last step's cubic load.
+
+    With the load ``G(t_n + tau) = sum_k c_k tau^k`` (``c_k = Q_k / h^k``), matching powers of
+    ``tau`` in ``P' = A P + G`` gives ``P_3 = -A^-1 c_3``, ``P_k = A^-1 ((k + 1) P_(k+1) - c_k)``;
+    the solution of the step is then ``exp(tau A) (y_n - P(0)) + P(tau)``, and ``exp(tau A)`` of an
+    underdamped block is ``e^(-zeta omega tau) (cos(omega_d tau) I + sin(omega_d tau) (A + zeta
+    omega I) / omega_d)``. Rows ``R_PART`` hold ``P_0 .. P_3``, ``R_FREE`` ``y_n - P(0)``, ``R_TURN``
+    ``(A + zeta omega I) (y_n - P(0)) / omega_d``; blocks below :data:`DENSE_H_OMEGA` or above
+    :data:`DENSE_ZETA` are left to the phi-functions (their ``R_TURN`` entry is NaN).
+    """
+    N = W.shape[1] // 2
+    for i in range(N):
+        om = W[R_LIN, i]
+        zeta = W[R_LIN, N + i]
+        if not (zeta < DENSE_ZETA and abs(h) * om >= DENSE_H_OMEGA):
+            W[R_TURN, i] = np.nan
+            continue
+        inv_om2 = 1.0 / (om * om)
+        two_zo = 2.0 * zeta * om
+        px = 0.0
+        pv = 0.0
+        for k in range(3, -1, -1):  # A^-1 (a, b) = ((-2 zeta omega a - b) / omega^2, a)
+            scale = 1.0 / h**k
+            a = (k + 1) * px - W[R_Q + k, i] * scale
+            b = (k + 1) * pv - W[R_Q + k, N + i] * scale
+            px = (-two_zo * a - b) * inv_om2
+            pv = a
+            W[R_PART + k, i] = px
+            W[R_PART + k, N + i] = pv
+        zx = W[R_YOLD, i] - px
+        zv = W[R_YOLD, N + i] - pv
+        sigma = zeta * om
+        inv_od = 1.0 / (om * math.sqrt(1.0 - zeta * zeta))
+        W[R_FREE, i] = zx
+        W[R_FREE, N + i] = zv
+        W[R_TURN, i] = (sigma * zx + zv) * inv_od
+        W[R_TURN, N + i] = (-om * om * zx - sigma * zv) * inv_od
+
+
+@jitable
+def _rotations(W, d):
+    """``exp(lambda d)`` of every underdamped block into ``R_ROT`` (``lambda = -zeta omega + i omega_d``).
+
+    All of them, not only those of this step's particular solution: the rotations serve later steps,
+    whose blocks may switch from the phi-functions to the particular solution (``h omega`` grows).
+    """
+    N = W.shape[1] // 2
+    for i in range(N):
+        if W[R_LIN, N + i] < DENSE_ZETA:
+            W[R_ROT, i], W[R_ROT, N + i] = _exp_lambda(W[R_LIN, i], W[R_LIN, N + i], d)
+
+
+@jitable
+def _exp_lambda(om, zeta, tau):
+    """``exp(lambda tau)`` of an underdamped block as ``(Re, Im)``, ``lambda = -zeta omega + i omega_d``."""
+    decay = math.exp(-zeta * om * tau)
+    angle = om * math.sqrt(1.0 - zeta * zeta) * tau
+    return decay * math.cos(angle), decay * math.sin(angle)
+
+
+@kernel
+def dense(rhs, p, W, fst, ist, t, out):
+    """Fourth-order dense output of the last step at ``t``, into ``out``.
+
+    The step's solution with its load replaced by the cubic of :func:`_load_cubic`, integrated
+    exactly: for an underdamped block with ``h omega >=`` :data:`DENSE_H_OMEGA` through the
+    particular solution of :func:`_particular` (``exp(lambda tau)``: a real ``exp``, ``cos`` and
+    ``sin`` per block, against five complex phi-functions; along the samples of ``t_eval`` the
+    previous sample's times one rotation, :data:`CHAIN_LENGTH`), otherwise through the
+    phi-functions (:func:`_cubic_solution`); the two agree to rounding.
+    """
+    h = fst[F_HSTEP]
+    theta = (t - fst[F_TOLD]) / h
+    if theta == 0.0:
+        out[:] = W[R_YOLD]
+        return
+    if fst[F_PART] == 0.0:
+        _particular(W, h)
+        fst[F_PART] = 1.0
+        fst[F_TAU] = np.nan
+    N = W.shape[1] // 2
+    tau = theta * h
+    sample = ist[S_SAMPLE] != 0
+    chained = False
+    delta = 0.0
+    if sample:
+        d = tau - fst[F_TAU]  # NaN at the first sample of the step
+        dtau = fst[F_DTAU]
+        if d == d and d != 0.0:
+            if abs(d - dtau) <= CHAIN_MATCH * abs(dtau):
+                chained = fst[F_CHAIN] < CHAIN_LENGTH
+                delta = d - dtau
+            else:  # a new spacing: its rotations, for the samples that follow
+                _rotations(W, d)
+                fst[F_DTAU] = d
+        fst[F_CHAIN] = fst[F_CHAIN] + 1.0 if chained else 0.0
+        fst[F_TAU] = tau
+    for i in range(N):
+        if np.isnan(W[R_TURN, i]):  # through the phi-functions, in the scratch row R_U
+            _table_block(W, tau, R_THETA, 5, i)
+            W[R_U, i] = 0.0
+            W[R_U, N + i] = 0.0
+            _apply_block(W, R_THETA, R_YOLD, R_U, 1.0, i)
+            factorial = 1.0
+            for k in range(4):
+                _apply_block(W, R_THETA + k + 1, R_Q + k, R_U, factorial * theta ** (k + 1) * h, i)
+                factorial *= k + 1
+            out[i] = W[R_U, i]
+            out[N + i] = W[R_U, N + i]
+            continue
+        om = W[R_LIN, i]
+        zeta = W[R_LIN, N + i]
+        if chained:  # exp(lambda tau) = exp(lambda tau_last) exp(lambda dtau) (1 + lambda delta)
+            sigma = zeta * om
+            omega_d = om * math.sqrt(1.0 - zeta * zeta)
+            cr = 1.0 - sigma * delta
+            ci = omega_d * delta
+            rr = W[R_ROT, i] * cr - W[R_ROT, N + i] * ci
+            ri = W[R_ROT, i] * ci + W[R_ROT, N + i] * cr
+            c = W[R_LAST, i] * rr - W[R_LAST, N + i] * ri
+            s = W[R_LAST, i] * ri + W[R_LAST, N + i] * rr
+        else:
+            c, s = _exp_lambda(om, zeta, tau)
+        if sample:
+            W[R_LAST, i] = c
+            W[R_LAST, N + i] = s
+        x = W[R_PART + 3, i]
+        v = W[R_PART + 3, N + i]
+        for k in range(2, -1, -1):
+            x = x * tau + W[R_PART + k, i]
+            v = v * tau + W[R_PART + k, N + i]
+        out[i] = c * W[R_FREE, i] + s * W[R_TURN, i] + x
+        out[N + i] = c * W[R_FREE, N + i] + s * W[R_TURN, N + i] + v
