@@ -102,6 +102,29 @@ def test_pressure_beside_the_other_series_equals_it_computed_in_line(monkeypatch
     assert peaks == [float(threaded.pressure.max())]
 
 
+def test_one_thread_computes_the_pressure_here_and_a_sweep_point_asks_for_it(monkeypatch):
+    """``collect(..., threads=1)`` (a sweep's worker, given one thread by its cluster) computes the
+    pad pressure in the calling thread, the same array; a sweep point never starts the thread."""
+    import importlib
+
+    from lubelink import results
+    from lubelink.config import resolve
+    from lubelink.sweep.compute import _TaskOptions, _compute_point
+
+    config = resolve("paper", {"solver.t_end": 0.05})
+    run = importlib.import_module("lubelink.simulate").run(config)
+    threaded = results.collect(run)
+
+    def no_thread():
+        raise AssertionError("the second thread was asked for")
+
+    monkeypatch.setattr(results, "_pool", no_thread)
+    np.testing.assert_array_equal(results.collect(run, threads=1)["pressure"], threaded["pressure"])
+    record, _ = _compute_point(0, config, _TaskOptions(("peak_pressure",), (), 10, 0, 1e-3, "test"))
+    assert record["status"] == "complete", record["message"]
+    assert record["peak_pressure"] == float(np.abs(threaded["pressure"]).max())
+
+
 # ---------------------------------------------------------------- penetration of the collar (restitution law)
 def test_a_penetration_in_a_sustained_contact_is_reported_and_is_real():
     """``paper-impact`` with 3 modes: a Zeno sequence ends in a sustained contact held at one point

@@ -219,12 +219,14 @@ def dataset(results: Results):
     return xr.Dataset(results.data_vars, coords=results.coords, attrs=results.attrs)
 
 
-def collect(result, variables=None) -> Results:
+def collect(result, variables=None, *, threads=2) -> Results:
     """Sample a :class:`~lubelink.simulate.Run` into :class:`Results`: the variables of :data:`VARIABLES`.
 
     ``variables``: names to compute (default all); the coordinates, ``q``, ``q_dot``, ``x_star``,
     ``V_r``, ``omega_n`` and the impacts always come (they cost nothing). A sweep point asks only
-    for what it summarises and stores.
+    for what it summarises and stores. ``threads``: 2 computes the pad pressure in a second thread
+    where there are two cores; 1 in this one (a sweep's worker, which its cluster gives one thread
+    and other workers the other cores).
     """
     from . import beam, contact, film
     from .config import to_toml
@@ -280,8 +282,8 @@ def collect(result, variables=None) -> Results:
             pressure = _select(film.pad_pressure_many, compiled)
             for side, name in zip(model.sides, ("pressure", "pressure_lower")):
                 if name in want:  # the costliest series: computed beside the others
-                    later[name] = _beside(compiled, pressure, X, q, q_dot, x_star, V_r, float(side), p.film, L,
-                                          *tables)
+                    later[name] = _beside(compiled and threads > 1, pressure, X, q, q_dot, x_star, V_r,
+                                          float(side), p.film, L, *tables)
         else:  # the finite-width film: its centre line Z = 0
             pressure = _select(film.centre_pressure_many, compiled)
             for side, name in zip(model.sides, ("pressure", "pressure_lower")):
