@@ -85,7 +85,7 @@ def both(scenario, overrides):
     return {b: run(resolve(scenario, {**overrides, "solver.backend": b})) for b in ("numpy", "numba")}
 
 
-@pytest.mark.parametrize("m", ["DOP853", "bulirsch-stoer", "exponential"])
+@pytest.mark.parametrize("m", ["DOP853", "bulirsch-stoer", "exponential", "exponential-adams"])
 def test_smooth_runs_agree_across_backends(m):
     r = both("paper", {"beam.modes": 3, "solver.t_end": 0.2, "solver.method": m, "solver.rtol": 1e-10,
                        "solver.atol": 1e-14})
@@ -152,7 +152,7 @@ def graze():
     return base, probe.t[i], lowest + depth
 
 
-@pytest.mark.parametrize("m", ["DOP853", "bulirsch-stoer", "exponential", "RK45"])
+@pytest.mark.parametrize("m", ["DOP853", "bulirsch-stoer", "exponential", "exponential-adams", "RK45"])
 def test_a_submicrosecond_graze_is_found_by_every_method(graze, m):
     """At a tolerance where every method's trajectory is within a fraction of the 1e-12 m dip of the
     reference (at looser tolerances the dip itself comes and goes with the integration error:

@@ -173,7 +173,7 @@ def sum_level_unbounded(t, y, p):
     return y[0] + y[1] - p[2], y[2] + y[3], np.inf
 
 
-@pytest.mark.parametrize("m", ["DOP853", "exponential"])
+@pytest.mark.parametrize("m", ["DOP853", "exponential", "exponential-adams"])
 def test_the_rate_bound_skips_samples_but_no_zero(m):
     """A slow oscillation with a fast ripple crosses a level only where both are near their minima.
 

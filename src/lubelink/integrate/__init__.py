@@ -11,6 +11,7 @@ module                 job
 ``bulirsch_stoer``     Gragg-Bulirsch-Stoer extrapolation; also as a SciPy ``OdeSolver``
 ``exponential``        exponential Runge-Kutta for damped oscillators with a nonlinear load
 ``exponential_dense``  its dense output, through the particular solution of each block
+``exponential_adams``  exponential Adams predictor-corrector, same problems, 2 evaluations a step
 ``phi``                the phi-functions of a damped oscillator's 2x2 block (for ``exponential``)
 ``scipy_methods``      SciPy's RK45, Radau, BDF, LSODA behind the driver's method interface
 =====================  ============================================================================
@@ -30,7 +31,8 @@ __all__ = ["METHODS", "COMPILED_METHODS", "SCIPY_METHODS", "method", "integrate"
 #: Methods whose loop runs compiled, and their modules (imported when first asked for); a method's
 #: dense output lives in its module, or in the second module named.
 _COMPILED = {"DOP853": ("dop853",), "bulirsch-stoer": ("bulirsch_stoer",),
-             "exponential": ("exponential", "exponential_dense")}
+             "exponential": ("exponential", "exponential_dense"),
+             "exponential-adams": ("exponential_adams", "exponential_dense")}
 COMPILED_METHODS = tuple(_COMPILED)
 #: Every method name.
 METHODS = COMPILED_METHODS + SCIPY_METHODS

@@ -332,6 +332,18 @@ def _cubic_solution(W, h, row_phi, r_y, theta, r_out):
 @kernel
 def init(rhs, p, W, fst, ist):
     """``f(t0, y0)``, ``G_1`` and the starting step."""
+    rk_init(rhs, p, W, fst, ist)
+
+
+@kernel
+def step(rhs, p, W, fst, ist):
+    """One accepted step (seven evaluations); False if the step size underflows (:func:`rk_step`)."""
+    return rk_step(rhs, p, W, fst, ist)
+
+
+@jitable
+def rk_init(rhs, p, W, fst, ist):
+    """:func:`init`'s work, also the start of :mod:`.exponential_adams`."""
     rhs(fst[F_T], W[R_Y], W[R_F], p)
     ist[S_NFEV] += 1
     _load(W, R_Y, R_F, R_G)
@@ -340,8 +352,8 @@ def init(rhs, p, W, fst, ist):
     fst[F_H] = initial_step(rhs, p, W, fst, ist, ORDER, W[R_U], W[R_FU])
 
 
-@kernel
-def step(rhs, p, W, fst, ist):
+@jitable
+def rk_step(rhs, p, W, fst, ist):
     """One accepted step (seven evaluations); False if the step size underflows.
 
     The error is estimated twice: the stages' (``h (2 phi_2 - 4 phi_3)(hA) (2 G_5 - G_2 - G_3)``,

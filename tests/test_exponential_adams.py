@@ -1,0 +1,109 @@
+"""The exponential Adams predictor-corrector (integrate/exponential_adams.py) against independent references.
+
+* a free damped oscillator is integrated exactly, whatever the step (the load is zero);
+* its cubic fit is the interpolating cubic (a polynomial of degree three is reproduced);
+* order four with fixed steps (the fitted slope), the error follows the tolerance, and the number
+  of steps does not follow the stiffest frequency;
+* through the driver: the dense output between steps, against a tight DOP853 run;
+* the paper's dry link against DOP853 at rtol 1e-12, and impacts (each segment starts again from
+  the Runge-Kutta steps) at the times the other methods find.
+"""
+
+import importlib
+
+import numpy as np
+import pytest
+
+from lubelink._jit import kernel
+from lubelink.config import resolve
+from lubelink.integrate import exponential_adams as A
+from lubelink.integrate import integrate, method
+from test_exponential import forced, free_exact, no_event
+
+run = importlib.import_module("lubelink.simulate").run
+
+
+def run_adams(p, t_end, rtol=1e-8, atol=1e-12, t_eval=None, **kw):
+    omegas = p[3:]
+    return integrate(method("exponential-adams"), forced, no_event, np.asarray(p, float), 0.0,
+                     np.zeros(2 * len(omegas)), t_end, np.zeros(0) if t_eval is None else t_eval, rtol=rtol,
+                     atol=atol, options={"omega": omegas, "zeta": p[0]}, **kw)
+
+
+def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
+    w, zeta = 300.0, 0.02
+
+    @kernel
+    def free(t, y, out, p):
+        out[0] = y[1]
+        out[1] = -p[0] ** 2 * y[0] - 2 * p[1] * p[0] * y[1]
+
+    seg = integrate(method("exponential-adams"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]),
+                    2.0, np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
+    assert seg.nsteps < 40  # the error estimates vanish: the step doubles each time (MAX_GROWTH), from the starting step
+    np.testing.assert_allclose(seg.y[:, 0], free_exact(seg.t, w, zeta, 1e-3, 0.0), rtol=0, atol=1e-15)
+
+
+def test_the_cubic_fit_reproduces_a_cubic_on_uneven_nodes():
+    rng = np.random.default_rng(3)
+    coefficients = rng.normal(size=(4, 6))
+    nodes = np.array([0.0, -0.7, -1.9, -2.4])
+    W = np.zeros((A.ROWS_END, 6))
+    rows = [A.R_HIST, A.R_HIST + 1, A.R_HIST + 2, A.R_YPRED]
+    for row, s in zip(rows, nodes):
+        W[row] = sum(coefficients[k] * s**k for k in range(4))
+    A._fit_cubic(W, *rows, *nodes[1:])
+    np.testing.assert_allclose(W[A.E.R_Q:A.E.R_Q + 4], coefficients, rtol=1e-12, atol=1e-12)
+
+
+def test_order_four_with_fixed_steps():
+    """Two oscillators (w = 50 and 3000), cos forcing and a weak quadratic load; the step is held at
+    ``max_step`` (the tolerances accept anything)."""
+    p = np.array([0.01, 2.0, 3.0, 50.0, 3000.0])
+    ref = run_adams(p, 1.0, rtol=1e-13, atol=1e-18).y_final
+    hs = 1.0 / np.array([20, 40, 80, 160])
+    errors = [np.max(np.abs(run_adams(p, 1.0, rtol=1.0, atol=1.0, max_step=h).y_final - ref)) for h in hs]
+    slope = np.polyfit(np.log(hs), np.log(errors), 1)[0]
+    assert 3.7 < slope < 4.6, (errors, slope)
+
+
+def test_error_follows_the_tolerance_and_the_dense_output_is_accurate():
+    """At 20 samples between the steps (dense output), against DOP853 at rtol 1e-13."""
+    p = np.array([0.01, 2.0, 3.0, 50.0, 400.0])
+    t_eval = np.linspace(0.1, 2.0, 20) + 1.234e-3
+    ref = integrate(method("DOP853"), forced, no_event, p, 0.0, np.zeros(4), 2.0 + 1.234e-3, t_eval, rtol=1e-13,
+                    atol=1e-18).y
+    ratios = []
+    for rtol in (1e-6, 1e-8, 1e-10):
+        seg = run_adams(p, t_eval[-1], rtol=rtol, atol=rtol * 1e-4, t_eval=t_eval)
+        ratios.append(np.max(np.abs(seg.y - ref) / np.abs(ref).max(axis=0)) / rtol)
+    assert max(ratios) < 100 and max(ratios) / min(ratios) < 100, ratios
+
+
+def test_the_steps_do_not_follow_the_stiffest_frequency():
+    steps = [run_adams(np.array([0.01, 0.0, 3.0, 10.0, w_max]), 2.0, rtol=1e-8, atol=1e-10).nsteps
+             for w_max in (1e2, 1e4)]
+    assert steps[1] <= 1.2 * steps[0], steps
+
+
+def test_the_dry_link_against_a_tight_reference():
+    """``paper-dry`` with 5 modes at the default tolerances: within 0.1 um of DOP853 at rtol 1e-12
+    (measured 0.02 um), in two evaluations a step after the three starting steps."""
+    over = {"beam.modes": 5, "solver.t_end": 1.0}
+    adams = run(resolve("paper-dry", {**over, "solver.method": "exponential-adams"}))
+    ref = run(resolve("paper-dry", {**over, "solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-14}))
+    mid = np.sin(np.arange(1, 6) * np.pi / 2)
+    assert adams.complete and adams.t.size == ref.t.size
+    assert np.max(np.abs((adams.y - ref.y)[:, :5] @ mid)) < 1e-7
+    assert adams.nfev <= 2 * adams.nsteps + 3 * 7 + 1 + 2 + 2 * adams.nsteps * 0.2  # + starts, rejections
+
+
+def test_impacts_at_the_times_the_other_methods_find():
+    """Film-less impacts (tests/test_simulate.py's ``IMPACT``): every segment after an impact starts
+    again with Runge-Kutta steps; the impacts agree with DOP853 at rtol 1e-11 within 1e-7 s."""
+    impact = {"film.model": "none", "film.clearance": 5e-3, "contact.law": "restitution", "beam.modes": 3,
+              "solver.t_end": 0.5}
+    adams = run(resolve("paper", {**impact, "solver.method": "exponential-adams"}))
+    tight = run(resolve("paper", {**impact, "solver.method": "DOP853", "solver.rtol": 1e-11, "solver.atol": 1e-14}))
+    assert adams.complete and len(adams.impacts) == len(tight.impacts) >= 2
+    np.testing.assert_allclose([i[0] for i in adams.impacts], [i[0] for i in tight.impacts], rtol=0, atol=1e-7)
