@@ -12,7 +12,6 @@
 import importlib
 
 import numpy as np
-import pytest
 
 from lubelink._jit import kernel
 from lubelink.config import resolve
