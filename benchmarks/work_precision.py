@@ -2,7 +2,7 @@
 
 For each case (``paper-dry``: the link alone; ``paper``: the lubricated joint; ``paper-impact``: film
 breakdown with impacts), each number of modes and each method (DOP853, the exponential
-Runge-Kutta method, Bulirsch-Stoer), the integration (``lubelink.simulate.run``, warm, median of
+Runge-Kutta method, the exponential Adams method, Bulirsch-Stoer), the integration (``lubelink.simulate.run``, warm, median of
 ``--repeats``) is timed at tolerances ``rtol = 10 atol`` from 1e-5 to 1e-10 and at the scenario's
 own tolerances (the defaults rtol 1e-6, atol 1e-8; ``paper-impact`` pins 1e-8, 1e-9). The error is the largest difference of the midpoint deflection ``u2_mid`` over the run
 to a DOP853 run at rtol 1e-12, atol 1e-15. Runs that stop early (film breakdown, chatter) are
@@ -20,7 +20,7 @@ number of modes; the scenario's own tolerances circled).
 
 Usage::
 
-    python benchmarks/work_precision.py                 # about 10 minutes on 2 cores
+    python benchmarks/work_precision.py                 # about 15 minutes on 2 cores
     python benchmarks/work_precision.py --modes 1,7 --repeats 1 --output /tmp/wp.png
 """
 
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 CASES = ("paper-dry", "paper", "paper-impact")
-METHODS = ("DOP853", "exponential", "bulirsch-stoer")
+METHODS = ("DOP853", "exponential", "exponential-adams", "bulirsch-stoer")
 RTOLS = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
 DEFAULT = "default"  # the rtol column of the run at the scenario's own tolerances
 TIGHT = {"solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-15}
@@ -86,7 +86,7 @@ def draw(results, modes_list, path):
 
     fig, axes = plt.subplots(len(CASES), len(modes_list), figsize=(3.2 * len(modes_list), 2.8 * len(CASES)),
                              squeeze=False, sharey=True)
-    colours = dict(zip(METHODS, ("C0", "C3", "C2")))
+    colours = dict(zip(METHODS, ("C0", "C3", "C1", "C2")))
     for i, case in enumerate(CASES):
         for j, modes in enumerate(modes_list):
             ax = axes[i, j]
