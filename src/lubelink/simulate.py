@@ -122,10 +122,10 @@ def method_name(config):
     """The integration method that ``solver.method`` names.
 
     ``"auto"``: DOP853 for one mode; from two modes on, the exponential Adams method for a planar
-    link without a film (its load, the rigid-body inertia, depends weakly on the state: two
-    evaluations a step against seven, 1.5-2.8x faster at the default tolerances), the exponential
-    Runge-Kutta method otherwise (a film or the spatial link's coupling hold the Adams method's
-    steps short: docs/model.md section 7.1).
+    link without a film (its load, the rigid-body inertia, depends weakly on the state; two
+    evaluations a step against seven: 1.5-2.8x faster at the default tolerances with 2-7 modes, as
+    fast with 15), the exponential Runge-Kutta method otherwise (a film or the spatial link's
+    coupling hold the Adams method's steps short: docs/model.md section 7.1).
     """
     m = config.solver.method
     if m != "auto":
