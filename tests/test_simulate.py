@@ -258,3 +258,20 @@ def test_default_tolerances_keep_the_deflection_within_a_micrometre(scenario, ov
     error = float(np.abs(ds.u2_mid - ref.u2_mid).max())
     assert error < 1e-6, f"{error * 1e6:.3f} um"
     np.testing.assert_allclose(ds.impact_time, ref.impact_time, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("scenario, overrides, expected", [
+    ("paper", {}, "DOP853"),
+    ("paper-dry", {"beam.modes": 1}, "DOP853"),
+    ("paper-dry", {"beam.modes": 5}, "exponential-adams"),
+    ("paper", {"beam.modes": 5, "film.model": "none", "contact.law": "restitution"}, "exponential-adams"),
+    ("paper", {"beam.modes": 7}, "exponential"),
+    ("spatial-slider-crank", {"film.model": "none"}, "exponential"),
+    ("paper-dry", {"beam.modes": 5, "solver.method": "exponential"}, "exponential"),
+])
+def test_auto_picks_the_adams_method_only_for_the_planar_link_without_a_film(scenario, overrides, expected):
+    """docs/model.md section 7.1: where the load depends weakly on the state (the dry planar link) the
+    Adams method's two evaluations a step win; a film or the spatial link's coupling hold its steps short."""
+    from lubelink.simulate import method_name
+
+    assert method_name(resolve(scenario, overrides)) == expected
