@@ -121,20 +121,19 @@ def _compile_errors():
 def method_name(config):
     """The integration method that ``solver.method`` names.
 
-    ``"auto"``: DOP853 for one mode; from two modes on, the exponential Adams method for a planar
-    link without a film (its load, the rigid-body inertia, depends weakly on the state; two
-    evaluations a step against seven: 1.5-2.8x faster at the default tolerances with 2-7 modes, as
-    fast with 15), the exponential Runge-Kutta method otherwise (a film or the spatial link's
-    coupling hold the Adams method's steps short: docs/model.md section 7.1).
+    ``"auto"``: the exponential Adams method for a planar link without a film (its load, the
+    rigid-body inertia, depends weakly on the state; two evaluations a step: 1.7-2.3x faster than
+    the exponential Runge-Kutta method at the default tolerances, and with one mode 1.7x faster than
+    DOP853 at the same error); otherwise DOP853 for one mode and the exponential Runge-Kutta method
+    for more (a film or the spatial link's coupling hold the Adams method's steps short:
+    docs/model.md section 7.1).
     """
     m = config.solver.method
     if m != "auto":
         return m
-    if config.beam.modes == 1:
-        return "DOP853"
     if config.film.model == "none" and config.beam.model == "planar":
         return "exponential-adams"
-    return "exponential"
+    return "DOP853" if config.beam.modes == 1 else "exponential"
 
 
 def _compile_on_two_cores(model, motion, method):
