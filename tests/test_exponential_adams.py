@@ -39,7 +39,7 @@ def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
 
     seg = integrate(method("exponential-adams"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]),
                     2.0, np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
-    assert seg.nsteps < 40  # the error estimates vanish: the step doubles each time (MAX_GROWTH), from the starting step
+    assert seg.nsteps < 40  # the error estimates vanish: from the starting step on, the step doubles (MAX_GROWTH)
     np.testing.assert_allclose(seg.y[:, 0], free_exact(seg.t, w, zeta, 1e-3, 0.0), rtol=0, atol=1e-15)
 
 

@@ -20,14 +20,16 @@ The corrector's cubic is the load over the step, so the dense output is that of 
 method (:mod:`.exponential_dense`), unchanged. A segment starts with three steps of the
 Runge-Kutta method (:func:`.exponential.rk_step`), which leave the loads the first Adams step
 needs; so does every segment after an event. The multistep method pays for its cheap steps with
-a smaller stability region: on a load that depends strongly on the state (a stiff lubricant film)
-its steps are held shorter than the Runge-Kutta method's (``benchmarks/exponential_adams_study.py``).
+a smaller stability region: where the load depends strongly on the state (a lubricant film, the
+spatial link's coupling) its steps are held short, and its error at loose tolerances is less
+reliable than the Runge-Kutta method's (docs/model.md section 7.1).
 """
 
 import numpy as np
 
 from lubelink._jit import jitable, kernel
-from ._layout import F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_YOLD, R_Y, S_DENSE, S_FAIL, S_NFEV, S_NREJ
+from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_Y, R_YOLD, S_DENSE, S_FAIL,
+                      S_NFEV, S_NREJ)
 from . import exponential as E
 from .control import MIN_FACTOR, scaled_rms, step_factor
 
