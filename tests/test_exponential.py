@@ -50,14 +50,15 @@ def free_exact(t, w, zeta, x0, v0):
     return x
 
 
+@kernel
+def free(t, y, out, p):
+    """A free damped oscillator, ``p = [omega, zeta]``."""
+    out[0] = y[1]
+    out[1] = -p[0] ** 2 * y[0] - 2 * p[1] * p[0] * y[1]
+
+
 def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
     w, zeta = 300.0, 0.02
-
-    @kernel
-    def free(t, y, out, p):
-        out[0] = y[1]
-        out[1] = -p[0] ** 2 * y[0] - 2 * p[1] * p[0] * y[1]
-
     seg = integrate(method("exponential"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]), 2.0,
                     np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
     # the load is zero: the error estimates vanish and the step grows tenfold each time

@@ -13,11 +13,10 @@ import importlib
 
 import numpy as np
 
-from lubelink._jit import kernel
 from lubelink.config import resolve
 from lubelink.integrate import exponential_adams as A
 from lubelink.integrate import integrate, method
-from test_exponential import forced, free_exact, no_event
+from test_exponential import forced, free, free_exact, no_event
 
 run = importlib.import_module("lubelink.simulate").run
 
@@ -31,12 +30,6 @@ def run_adams(p, t_end, rtol=1e-8, atol=1e-12, t_eval=None, **kw):
 
 def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
     w, zeta = 300.0, 0.02
-
-    @kernel
-    def free(t, y, out, p):
-        out[0] = y[1]
-        out[1] = -p[0] ** 2 * y[0] - 2 * p[1] * p[0] * y[1]
-
     seg = integrate(method("exponential-adams"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]),
                     2.0, np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
     assert seg.nsteps < 40  # the error estimates vanish: from the starting step on, the step doubles (MAX_GROWTH)

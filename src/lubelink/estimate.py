@@ -30,8 +30,8 @@ from dataclasses import dataclass
 __all__ = ["Estimate", "run_cost", "results_cost", "duration"]
 
 #: Right-hand-side evaluations per step.
-EVALS_PER_STEP = {"DOP853": 12, "RK45": 6, "bulirsch-stoer": 9, "exponential": 7, "exponential-adams": 2, "Radau": 7, "BDF": 3,
-                  "LSODA": 3}
+EVALS_PER_STEP = {"DOP853": 12, "RK45": 6, "bulirsch-stoer": 9, "exponential": 7, "exponential-adams": 2, "Radau": 7,
+                  "BDF": 3, "LSODA": 3}
 #: Methods whose step is bounded by the fastest mode: ``h <= STABILITY / omega_N``.
 EXPLICIT = ("DOP853", "RK45", "bulirsch-stoer")
 #: SciPy's methods: run as Python, step by step.

@@ -12,7 +12,7 @@ import numpy as np
 from lubelink._jit import jitable
 from ._layout import F_DIR, F_MAXSTEP, F_T, F_TEND, R_ATOL, R_F, R_RTOL, R_Y, S_NFEV
 
-__all__ = ["scaled_rms", "step_factor", "initial_step", "SAFETY", "MIN_FACTOR", "MAX_FACTOR"]
+__all__ = ["scaled_rms", "step_factor", "initial_step", "min_step", "step_end", "SAFETY", "MIN_FACTOR", "MAX_FACTOR"]
 
 EPS = np.finfo(float).eps
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
@@ -44,6 +44,21 @@ def step_factor(error_norm, order, rejected):
     if rejected:
         factor = min(1.0, factor)
     return factor
+
+
+@jitable
+def min_step(t, direction):
+    """The smallest step from ``t``: ten units in the last place of ``t`` (SciPy's)."""
+    return 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+
+
+@jitable
+def step_end(fst, t, h_abs):
+    """Where a step of size ``h_abs`` from ``t`` ends: in the direction of integration, not past ``t_end``."""
+    t_new = t + fst[F_DIR] * h_abs
+    if fst[F_DIR] * (t_new - fst[F_TEND]) > 0.0:
+        t_new = fst[F_TEND]
+    return t_new
 
 
 @jitable

@@ -13,9 +13,9 @@ import os
 import numpy as np
 
 from lubelink._jit import jitable, kernel
-from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD, R_METHOD,
+from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD, R_METHOD,
                       R_RTOL, R_Y, R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
-from .control import MAX_FACTOR, MIN_FACTOR, SAFETY, initial_step
+from .control import MAX_FACTOR, MIN_FACTOR, SAFETY, initial_step, min_step, step_end
 
 __all__ = ["init", "step", "dense", "rows", "ORDER"]
 
@@ -98,19 +98,17 @@ def step(rhs, p, W, fst, ist):
     direction = fst[F_DIR]
     y = W[R_Y]
     f = W[R_F]
-    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    smallest = min_step(t, direction)
     h_abs = fst[F_H]
     if h_abs > fst[F_MAXSTEP]:
         h_abs = fst[F_MAXSTEP]
-    elif h_abs < min_step:
-        h_abs = min_step
+    elif h_abs < smallest:
+        h_abs = smallest
     rejected = False
     while True:
-        if h_abs < min_step:
+        if h_abs < smallest:
             return False
-        t_new = t + direction * h_abs
-        if direction * (t_new - fst[F_TEND]) > 0.0:
-            t_new = fst[F_TEND]
+        t_new = step_end(fst, t, h_abs)
         h = t_new - t
         h_abs = abs(h)
         for m in range(n):

@@ -47,9 +47,9 @@ The phi-functions of the 2x2 blocks are those of :mod:`.phi`.
 import numpy as np
 
 from lubelink._jit import jitable, kernel
-from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TEND, F_TOLD, FAIL_RHS, R_F, R_METHOD, R_Y,
+from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TOLD, FAIL_RHS, R_F, R_METHOD, R_Y,
                       R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
-from .control import MIN_FACTOR, initial_step, scaled_rms, step_factor
+from .control import MIN_FACTOR, initial_step, min_step, scaled_rms, step_end, step_factor
 from .phi import phi_block
 
 __all__ = ["init", "step", "rows", "setup"]
@@ -363,16 +363,13 @@ def rk_step(rhs, p, W, fst, ist):
     """
     n = W.shape[1]
     t = fst[F_T]
-    direction = fst[F_DIR]
-    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    smallest = min_step(t, fst[F_DIR])
     h_abs = min(fst[F_H], fst[F_MAXSTEP])
     rejected = False
     while True:
-        if h_abs < min_step:
+        if h_abs < smallest:
             return False
-        t_new = t + direction * h_abs
-        if direction * (t_new - fst[F_TEND]) > 0.0:
-            t_new = fst[F_TEND]
+        t_new = step_end(fst, t, h_abs)
         h = t_new - t
         if h != fst[F_HOLD]:
             _step_tables(W, h)
@@ -396,14 +393,21 @@ def rk_step(rhs, p, W, fst, ist):
             break
         rejected = True
         ist[S_NREJ] += 1
-    for m in range(n):
+    accept(W, fst, ist, t, t_new, h_abs)
+    return True
+
+
+@jitable
+def accept(W, fst, ist, t, t_new, h_abs):
+    """The step from ``t`` to ``t_new`` becomes the last one: ``y`` from ``R_YNEW``, the load ``G_1``
+    of the next step from ``R_GNEW``, the next step's size ``h_abs``; its dense output is to be made."""
+    for m in range(W.shape[1]):
         W[R_YOLD, m] = W[R_Y, m]
         W[R_Y, m] = W[R_YNEW, m]
-        W[R_G, m] = W[R_GNEW, m]  # the next step's G_1
+        W[R_G, m] = W[R_GNEW, m]
     fst[F_TOLD] = t
-    fst[F_HSTEP] = h
+    fst[F_HSTEP] = t_new - t
     fst[F_T] = t_new
     fst[F_H] = h_abs
     fst[F_PART] = 0.0
     ist[S_DENSE] = 1
-    return True

@@ -28,10 +28,9 @@ reliable than the Runge-Kutta method's (docs/model.md section 7.1).
 import numpy as np
 
 from lubelink._jit import jitable, kernel
-from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_Y, R_YOLD, S_DENSE, S_FAIL,
-                      S_NFEV, S_NREJ)
+from ._layout import F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TOLD, FAIL_RHS, R_Y, S_FAIL, S_NFEV, S_NREJ
 from . import exponential as E
-from .control import MIN_FACTOR, scaled_rms, step_factor
+from .control import MIN_FACTOR, min_step, scaled_rms, step_end, step_factor
 
 __all__ = ["init", "step", "rows", "setup", "FLOATS"]
 
@@ -116,16 +115,13 @@ def step(rhs, p, W, fst, ist):
         _push(W, fst, R_GPREV, fst[F_TOLD])
         return True
     t = fst[F_T]
-    direction = fst[F_DIR]
-    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    smallest = min_step(t, fst[F_DIR])
     h_abs = min(fst[F_H], fst[F_MAXSTEP], MAX_GROWTH * abs(fst[F_HSTEP]))
     rejected = False
     while True:
-        if h_abs < min_step:
+        if h_abs < smallest:
             return False
-        t_new = t + direction * h_abs
-        if direction * (t_new - fst[F_TEND]) > 0.0:
-            t_new = fst[F_TEND]
+        t_new = step_end(fst, t, h_abs)
         h = t_new - t
         if h != fst[F_AHOLD]:
             E._tables(W, h, 1.0, R_ATABLE, 5)
@@ -157,15 +153,7 @@ def step(rhs, p, W, fst, ist):
         ist[S_NREJ] += 1
     rhs(t_new, W[E.R_YNEW], W[E.R_FU], p)  # the load at the corrected state: the next step's G_n
     ist[S_NFEV] += 1
+    E._load(W, E.R_YNEW, E.R_FU, E.R_GNEW)
     _push(W, fst, E.R_G, t)
-    E._load(W, E.R_YNEW, E.R_FU, E.R_G)
-    for m in range(n):
-        W[R_YOLD, m] = W[R_Y, m]
-        W[R_Y, m] = W[E.R_YNEW, m]
-    fst[F_TOLD] = t
-    fst[F_HSTEP] = h
-    fst[F_T] = t_new
-    fst[F_H] = h_abs
-    fst[E.F_PART] = 0.0
-    ist[S_DENSE] = 1
+    E.accept(W, fst, ist, t, t_new, h_abs)
     return True

@@ -15,7 +15,7 @@ from lubelink._jit import jitable, kernel
 
 from lubelink.integrate._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD, R_RTOL,
                        R_Y, R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
-from lubelink.integrate.control import EPS, initial_step
+from lubelink.integrate.control import EPS, initial_step, min_step
 from .tables import (_DENSE_REJECT, _DIFF, _ESHAPE, _FAC1, _FAC2, _FAC3, _FAC4, _HERMITE, _MU_DIFF, _NSEQ, _SAFE1,
                      _SAFE2, _SAFE3, _SEQ_OFF, _STAB_COLUMNS, _TAYLOR, _WEIGHTS, _WORK, F_ERROLD, F_HDENSE, F_HH, F_WW,
                      R_COEF, R_FNEW, R_STAB, R_STORE, R_T1, R_TMP, R_YA, R_YB, R_YMID, R_YNEW, S_ADAPTIVE, S_DENSECONTROL,
@@ -301,7 +301,7 @@ def step(rhs, p, W, fst, ist):
         ist[S_NFEV] += 1
         _accept(t, t_new, k, W, fst, ist)
         return True
-    min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+    smallest = min_step(t, direction)
     reject = False
     restart = True
     while True:
@@ -310,7 +310,7 @@ def step(rhs, p, W, fst, ist):
         last = 1.01 * h_abs >= remaining
         if last:
             h_abs = remaining
-        if h_abs < min_step:
+        if h_abs < smallest:
             return False
         full = ist[S_FIXED] != 0 or (restart and (ist[S_NACC] == 0 or last))
         h = direction * h_abs
