@@ -107,11 +107,18 @@ def kernel(func):
 
     Kernels release the GIL (they touch no Python object), so two of them can run at once in
     threads: the results compute the pad pressure beside the other series (:mod:`lubelink.results`).
+
+    They divide as NumPy does (``error_model="numpy"``: ``x / 0`` is ``inf`` or NaN, which the
+    integrators already treat as a failed step, and ``LUBELINK_DISABLE_JIT`` runs stay plain Python).
+    Numba's default raises ``ZeroDivisionError`` instead, and every such raising exit keeps its
+    reference-count pruning from removing the atomic increments and decrements of the array
+    arguments at a function's entry and exits: 5.8 -> 5.0 ms for ``simulate("paper-dry")`` with
+    five modes (benchmarks/README.md).
     """
     if not ENABLED:
         return _PyKernel(func)
     _install_locators()
-    return numba.njit(cache=True, nogil=True)(func)
+    return numba.njit(cache=True, nogil=True, error_model="numpy")(func)
 
 
 @lru_cache(maxsize=1)
