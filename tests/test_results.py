@@ -187,3 +187,27 @@ def test_the_direct_dataset_of_an_orbit_and_of_a_branch_is_the_constructors():
         direct = dataset(r)
         xr.testing.assert_identical(direct, xr.Dataset(r.data_vars, coords=r.coords, attrs=r.attrs))
         assert set(direct.xindexes) == set(xr.Dataset(r.data_vars, coords=r.coords).xindexes)
+
+
+def test_a_sweep_point_skips_the_configuration_text(monkeypatch):
+    """A sweep point's results carry no TOML text of their configuration (its store records the sweep):
+    ``to_toml`` is never called, and its summary is the one of the full results."""
+    import importlib
+
+    from lubelink import config as config_module
+    from lubelink import results
+    from lubelink.config import resolve
+    from lubelink.sweep.compute import _TaskOptions, _compute_point
+
+    config = resolve("paper", {"solver.t_end": 0.05, "film.viscosity": 0.1234})
+    full = results.collect(importlib.import_module("lubelink.simulate").run(config))
+    assert "viscosity = 0.1234" in full.attrs["config"]
+
+    def no_text(_):
+        raise AssertionError("the configuration's text was asked for")
+
+    monkeypatch.setattr(config_module, "to_toml", no_text)
+    record, _ = _compute_point(0, config, _TaskOptions(("peak_film_force", "min_film"), (), 10, 0, 1e-3, "test"))
+    assert record["status"] == "complete", record["message"]
+    assert record["peak_film_force"] == float(np.abs(full["film_force"]).max())
+    assert record["min_film"] == float(np.min(full["film_min"]))

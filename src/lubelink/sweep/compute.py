@@ -112,12 +112,13 @@ _SOURCES = {"peak_u2_mid": "u2_mid", "peak_pressure": "pressure", "min_film": "f
 def _simulate_point(config, opts):
     """The results of one point, only the variables it summarises and stores: the sweep's only call
     of the simulation core. In one thread: a worker's other cores belong to the other workers (a
-    second thread for the pad pressure made a 2-worker sweep on 2 cores about 5 % slower)."""
+    second thread for the pad pressure made a 2-worker sweep on 2 cores about 5 % slower). Without
+    the configuration's TOML text in its attributes: the store records the sweep."""
     from ..results import collect
     from ..simulate import run
 
     wanted = {_SOURCES[q] for q in opts.quantities if q in _SOURCES} | set(opts.time_series)
-    return collect(run(config), variables=wanted, threads=1)
+    return collect(run(config), variables=wanted, threads=1, config_text=False)
 
 
 def _compute_point(flat, config, opts, trace=None):
