@@ -112,8 +112,8 @@ def kernel(func):
     integrators already treat as a failed step, and ``LUBELINK_DISABLE_JIT`` runs stay plain Python).
     Numba's default raises ``ZeroDivisionError`` instead, and every such raising exit keeps its
     reference-count pruning from removing the atomic increments and decrements of the array
-    arguments at a function's entry and exits: 5.8 -> 5.0 ms for ``simulate("paper-dry")`` with
-    five modes (benchmarks/README.md).
+    arguments at a function's entry and exits: ``simulate`` 0.95-1.01x, the right-hand side
+    0.91-1.01x on the built-in scenarios in paired runs (benchmarks/README.md).
     """
     if not ENABLED:
         return _PyKernel(func)
