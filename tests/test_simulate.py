@@ -158,6 +158,19 @@ def test_film_breakdown_without_contact_law_is_reported():
     assert 0 < r.t[-1] < 0.5
 
 
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # a first run as Python divides by zero in NumPy
+def test_a_film_without_floor_closed_by_a_compliant_contact_stops_with_a_named_failure():
+    """``film.thickness_floor = 0`` lets the film force grow without bound where a compliant contact
+    closes the gap. The integration then fails, and the run says so and names the key, with the
+    samples up to there. It used to raise ``ZeroDivisionError`` from inside compiled code (the
+    results' film force of a sample with no film): the kernels now divide as NumPy does."""
+    ds = lubelink.simulate("paper-impact", set={"film.thickness_floor": 0.0, "contact.law": "compliant",
+                                                "solver.t_end": 1.5})
+    assert ds.attrs["status"] == "solver_failure", ds.attrs["message"]
+    assert "film.thickness_floor = 0" in ds.attrs["message"] and "failed at t = " in ds.attrs["message"]
+    assert 1.0 < float(ds.time[-1]) < 1.5 and np.all(np.isfinite(ds.u2_mid))
+
+
 def test_partial_results_on_timeout():
     ds = lubelink.simulate("paper", set={"solver.max_wall_time": 1e-3})
     assert ds.attrs["status"] == "timeout" and ds.attrs["complete"] == 0

@@ -154,6 +154,14 @@ def _compile_on_two_cores(model, motion, method):
     _prewarm.wait(helper)
 
 
+def _failure_hint(config):
+    """What a failed integration's message adds for a configuration known to make the loads unbounded."""
+    if config.film.enabled and config.film.thickness_floor == 0.0 and config.contact.law == "compliant":
+        return ("; with film.thickness_floor = 0 the film force grows without bound where the compliant "
+                "contact closes the gap: set film.thickness_floor > 0 (the default is 2.5e-06 m)")
+    return ""
+
+
 def run(config, motion=None, progress=None, model=None, y0=None, section=None) -> Run:
     """Integrate a validated configuration, handling film breakdown as it occurs.
 
@@ -247,7 +255,8 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         if seg.status == "finished":
             break
         if seg.status == "failed":
-            out.status, out.message = "solver_failure", seg.message
+            hint = _failure_hint(config)
+            out.status, out.message = "solver_failure", seg.message.rstrip(".") + hint if hint else seg.message
             break
         if seg.status == "timeout":
             out.status = "timeout"
