@@ -154,12 +154,16 @@ def _compile_on_two_cores(model, motion, method):
     _prewarm.wait(helper)
 
 
-def _failure_hint(config):
-    """What a failed integration's message adds for a configuration known to make the loads unbounded."""
+def _failure_message(message, config):
+    """A failed integration's ``message``, with the cause where the configuration is known to make the
+    loads unbounded (a film without a floor that a compliant contact closes)."""
     if config.film.enabled and config.film.thickness_floor == 0.0 and config.contact.law == "compliant":
-        return ("; with film.thickness_floor = 0 the film force grows without bound where the compliant "
-                "contact closes the gap: set film.thickness_floor > 0 (the default is 2.5e-06 m)")
-    return ""
+        from .params import Film
+
+        return (f"{message.rstrip('.')}; with film.thickness_floor = 0 the film force grows without bound "
+                f"where the compliant contact closes the gap: set film.thickness_floor > 0 (the default is "
+                f"{Film.thickness_floor} m)")
+    return message
 
 
 def run(config, motion=None, progress=None, model=None, y0=None, section=None) -> Run:
@@ -255,8 +259,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         if seg.status == "finished":
             break
         if seg.status == "failed":
-            hint = _failure_hint(config)
-            out.status, out.message = "solver_failure", seg.message.rstrip(".") + hint if hint else seg.message
+            out.status, out.message = "solver_failure", _failure_message(seg.message, config)
             break
         if seg.status == "timeout":
             out.status = "timeout"
