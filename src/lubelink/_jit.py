@@ -18,6 +18,11 @@ functions are therefore cached under a stamp of every source file of the package
 compiled code (:func:`package_stamp`), through a cache locator that serves lubelink's functions
 only.
 
+The integration methods (:data:`UNCOUNTED`) are compiled without reference counts: they only
+read and write the arrays the driver allocated, so the counts Numba keeps for every array argument
+and view guard nothing there, and their calls keep LLVM from holding an array's data pointer and
+shape in registers across them.
+
 Setting ``LUBELINK_DISABLE_JIT=1`` (or running without Numba) makes both decorators plain Python.
 """
 
@@ -29,7 +34,7 @@ import warnings
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["jitable", "kernel", "ENABLED", "package_stamp", "NumbaUnavailable"]
+__all__ = ["jitable", "kernel", "ENABLED", "UNCOUNTED", "package_stamp", "NumbaUnavailable"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _MARKERS = (b"@jitable", b"@kernel")
@@ -50,6 +55,22 @@ else:
 
 #: Whether kernels are compiled (Numba importable and not disabled).
 ENABLED = numba is not None
+
+#: Packages whose compiled functions keep no reference counts (Numba's ``_nrt=False``): the
+#: integration methods. Numba then refuses to compile an allocation in them, or the return of an
+#: array that is not an argument; ``tests/test_jit.py`` checks that none returns an argument
+#: either (a caller that counts would release it once too often). Against the same methods with
+#: counts, paired warm runs: ``simulate`` 0.9x on ``paper`` (benchmarks/README.md).
+UNCOUNTED = ("lubelink.integrate",)
+
+
+def _options(func):
+    """Numba's options for ``func``: no reference counts in :data:`UNCOUNTED` where Numba offers that."""
+    from numba.core.cpu import CPUTargetOptions
+
+    if getattr(func, "__module__", "").startswith(UNCOUNTED) and hasattr(CPUTargetOptions, "_nrt"):
+        return {"_nrt": False}
+    return {}
 
 
 class NumbaUnavailable(RuntimeError):
@@ -98,7 +119,7 @@ def jitable(func=None, *, inline=False):
     if func is None:
         return lambda f: jitable(f, inline=inline)
     if ENABLED:
-        register_jitable(inline="always" if inline else "never")(func)
+        register_jitable(inline="always" if inline else "never", **_options(func))(func)
     return func
 
 
@@ -118,7 +139,7 @@ def kernel(func):
     if not ENABLED:
         return _PyKernel(func)
     _install_locators()
-    return numba.njit(cache=True, nogil=True, error_model="numpy")(func)
+    return numba.njit(cache=True, nogil=True, error_model="numpy", **_options(func))(func)
 
 
 @lru_cache(maxsize=1)

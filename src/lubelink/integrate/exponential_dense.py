@@ -119,7 +119,8 @@ def dense(rhs, p, W, fst, ist, t, out):
     h = fst[F_HSTEP]
     theta = (t - fst[F_TOLD]) / h
     if theta == 0.0:
-        out[:] = W[R_YOLD]
+        for m in range(W.shape[1]):
+            out[m] = W[R_YOLD, m]
         return
     if fst[F_PART] == 0.0:
         _particular(W, h)
