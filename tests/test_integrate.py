@@ -220,6 +220,18 @@ def test_progress_and_deadline():
     assert 0.0 < late.t_final < 50.0 and np.all(np.isfinite(late.y_final))
 
 
+def test_the_calls_into_compiled_code_change_nothing_but_their_number():
+    """The first call's step budget (``steps_per_call``) and the budget handed on: the same samples to the bit."""
+    t_eval = np.linspace(0.1, 20.0, 200)
+    segs = [solve(20.0, [2 * np.pi], "DOP853", rtol=1e-8, atol=1e-11, t_eval=t_eval, steps_per_call=k)
+            for k in (1, 64, 10**6)]
+    for seg in segs[1:]:
+        np.testing.assert_array_equal(seg.y, segs[0].y)
+        assert seg.nsteps == segs[0].nsteps
+    assert segs[2].extra["steps_per_call"] == 10**6  # one call: nothing measured, the budget handed on unchanged
+    assert 16 <= segs[0].extra["steps_per_call"] <= 1_000_000  # measured after the first call
+
+
 def test_scipy_methods_share_the_driver():
     w = 2 * np.pi
     for m in ("RK45", "Radau"):

@@ -221,6 +221,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         out.status, out.message, out.event_time = "out_of_domain", f"at t = 0 s: {exited[1]}", 0.0
     y = model.to_state(y)
     sustained = config.contact.law == "restitution"
+    steps_per_call = integrate.STEPS_PER_CALL  # then the previous segment's measured budget
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
         compiled_loop = model.compiled and out_method in integrate.COMPILED_METHODS
@@ -229,7 +230,8 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
                                       t_eval[t_eval > t], rtol=s.rtol, atol=s.atol, max_step=s.max_step,
                                       event_sign=event_sign, event_resolution=resolution,
                                       deadline=deadline, progress=progress, compiled=compiled_loop,
-                                      options=options, p_type=model.params_type if compiled_loop else None)
+                                      options=options, p_type=model.params_type if compiled_loop else None,
+                                      steps_per_call=steps_per_call)
         except _compile_errors() as exc:
             if not model.compiled:
                 raise
@@ -251,6 +253,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         points.append(np.full(seg_t.size, 0.0 if phase is None or len(phase) < 3 else float(phase[2])))
         out.nfev += seg.nfev
         out.nsteps += seg.nsteps
+        steps_per_call = seg.extra.get("steps_per_call", steps_per_call)
         if exited is not None:
             out.status, out.event_time = "out_of_domain", float(seg_t[-1])
             out.message = f"at t = {seg_t[-1]:.9g} s: {exited[1]}"

@@ -273,7 +273,7 @@ def precompile(method, p_type):
 # --- the Python side of a segment -------------------------------------------------------------------
 def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1e-6, max_step=np.inf,
               event_sign=0, event_resolution=None, deadline=None, progress=None, compiled=ENABLED, options=None,
-              p_type=None):
+              p_type=None, steps_per_call=STEPS_PER_CALL):
     """Integrate ``dy/dt = rhs(t, y)`` from ``t0`` to ``t_end`` or the first zero of ``-event_sign * g``.
 
     Parameters
@@ -313,6 +313,11 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
     p_type : numba type, optional
         The Numba type of ``p``, if known (``numba.typeof`` of a large named tuple costs a
         fraction of a millisecond).
+    steps_per_call : int
+        Steps of the first call into compiled code, before the speed of a step is known; a caller
+        that integrates many segments passes on the ``extra["steps_per_call"]`` of the previous
+        one, so that a short segment takes one call (each costs about 50 us to convert the
+        arguments).
 
     Returns
     -------
@@ -336,7 +341,7 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
     fst[F_TFINAL] = t0
     ist = np.zeros(method.ints, dtype=np.int64)
     ist[S_EVENT] = int(event_sign != 0)
-    ist[S_MAXSTEPS] = STEPS_PER_CALL
+    ist[S_MAXSTEPS] = steps_per_call
     if method.setup is not None:
         method.setup(W, fst, ist, options or {})
     out = np.empty((t_eval.size, n), dtype=dtype)
@@ -391,5 +396,5 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
         y_before=W[R_YBEFORE].copy() if status == "event" else None, nfev=int(ist[S_NFEV]),
         nsteps=int(ist[S_NSTEPS]),
         extra={"last_step": float(fst[F_HSTEP]), "n_rejected": int(ist[S_NREJ]), "compiled": compiled,
-               "t_old": float(fst[F_TOLD])},
+               "t_old": float(fst[F_TOLD]), "steps_per_call": int(ist[S_MAXSTEPS])},
     )
