@@ -60,7 +60,7 @@ ENABLED = numba is not None
 #: integration methods. Numba then refuses to compile an allocation in them, or the return of an
 #: array that is not an argument; ``tests/test_jit.py`` checks that none returns an argument
 #: either (a caller that counts would release it once too often). Against the same methods with
-#: counts, paired warm runs: ``simulate`` 0.9x on ``paper`` (benchmarks/README.md).
+#: counts, paired warm runs: ``simulate`` 0.81-0.89x on the built-in scenarios (benchmarks/README.md).
 UNCOUNTED = ("lubelink.integrate",)
 
 
