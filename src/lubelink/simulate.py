@@ -253,7 +253,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         points.append(np.full(seg_t.size, 0.0 if phase is None or len(phase) < 3 else float(phase[2])))
         out.nfev += seg.nfev
         out.nsteps += seg.nsteps
-        steps_per_call = seg.extra.get("steps_per_call", steps_per_call)
+        steps_per_call = seg.extra["steps_per_call"]
         if exited is not None:
             out.status, out.event_time = "out_of_domain", float(seg_t[-1])
             out.message = f"at t = {seg_t[-1]:.9g} s: {exited[1]}"
