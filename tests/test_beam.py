@@ -143,6 +143,17 @@ def test_deflection_slope_curvature_by_finite_differences():
     np.testing.assert_allclose(u(x), ref, rtol=1e-13, atol=1e-18)
 
 
+def test_modal_sum_is_the_matrix_product_for_any_number_of_modes():
+    """The compiled ``q @ shapes`` (modes taken in pairs, an odd one last) against NumPy's product,
+    for no mode, odd and even counts, one point and many."""
+    rng = np.random.default_rng(11)
+    for N in range(0, 9):
+        for M in (1, 7, 101):
+            q = rng.normal(size=(13, N))
+            shapes = rng.normal(size=(N, M))
+            np.testing.assert_allclose(beam.modal_sum(q, shapes), q @ shapes, rtol=0, atol=1e-13 * max(N, 1))
+
+
 def test_modal_energy_equals_beam_energy():
     """m/2 sum(q_dot^2 + omega_n^2 q^2) = 1/2 int rho A u_t^2 + EI u''^2 dx (quad)."""
     rng = np.random.default_rng(5)

@@ -182,6 +182,7 @@ def test_resolve_validates_once_with_the_overrides_applied(source, tmp_path, mon
     seen = []
     real = cfgmod.validate
     monkeypatch.setattr(cfgmod, "validate", lambda c: seen.append(c) or real(c))
+    cfgmod._named.cache_clear()  # (a scenario resolved before in this process is not validated again)
     config = resolve(sources[source], {"mechanism.crank_tilt": 0.25})
     assert seen == [config] and config.mechanism.crank_tilt == 0.25
     seen.clear()
@@ -189,3 +190,31 @@ def test_resolve_validates_once_with_the_overrides_applied(source, tmp_path, mon
         resolve({**base, "beam": {"modes": 0}} if source == "dict" else sources[source], {"film.viscosity": -1.0})
     assert len(seen) == 1 and "film.viscosity = -1.0" in str(info.value)
     assert ("beam.modes = 0" in str(info.value)) == (source == "dict")
+
+
+def test_a_scenario_with_plain_overrides_is_resolved_once(monkeypatch):
+    """The same frozen configuration for the same scenario and overrides, validated once; overrides that
+    Python finds equal but validation does not (``2``, ``2.0``, ``True``) are told apart; a value that is
+    not a plain scalar is resolved every time; a fault is raised every time."""
+    import lubelink.config as cfgmod
+
+    seen = []
+    real = cfgmod.validate
+    monkeypatch.setattr(cfgmod, "validate", lambda c: seen.append(c) or real(c))
+    cfgmod._named.cache_clear()
+    first = resolve("paper-dry", {"beam.modes": 2})
+    assert resolve("paper-dry", {"beam.modes": 2}) is first and len(seen) == 1
+    assert resolve("paper-dry") is resolve("paper-dry") and len(seen) == 2
+    with pytest.raises(ConfigError, match="beam.modes"):
+        resolve("paper-dry", {"beam.modes": 2.0})
+    with pytest.raises(ConfigError, match="beam.modes"):
+        resolve("paper-dry", {"beam.modes": True})
+    with pytest.raises(ConfigError, match="beam.modes"):  # a fault is not remembered
+        resolve("paper-dry", {"beam.modes": True})
+    assert len(seen) == 5
+    listed = {"mechanism.crank_length": 0.07, "film.viscosity": [0.1]}  # (a list: not a plain value)
+    with pytest.raises(ConfigError):
+        resolve("paper", listed)
+    with pytest.raises(ConfigError):
+        resolve("paper", listed)
+    assert len(seen) == 7

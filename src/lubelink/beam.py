@@ -203,16 +203,30 @@ def modal_sum(q, shapes):
 
     The same product as NumPy's ``@``, without BLAS: for the few modes here a threaded BLAS
     spends more on its threads than on the arithmetic (8 ms instead of 0.3 for 2001 samples of
-    7 modes at 101 points on a busy 2-core machine).
+    7 modes at 101 points on a busy 2-core machine). Each row of the result takes the modes two
+    at a time (one pass over the row per pair): 2001 x 101 from 5 modes in 0.25 ms against 0.41
+    ms one mode at a time (``benchmarks/README.md``).
     """
     T, N = q.shape
     M = shapes.shape[1]
-    out = np.zeros((T, M))
+    if N == 0:
+        return np.zeros((T, M))
+    out = np.empty((T, M))
     for i in range(T):
-        for n in range(N):
+        row = out[i]
+        a = q[i, 0]
+        for k in range(M):
+            row[k] = a * shapes[0, k]
+        n = 1
+        while n + 1 < N:
+            a, b = q[i, n], q[i, n + 1]
+            for k in range(M):
+                row[k] += a * shapes[n, k] + b * shapes[n + 1, k]
+            n += 2
+        if n < N:
             a = q[i, n]
             for k in range(M):
-                out[i, k] += a * shapes[n, k]
+                row[k] += a * shapes[n, k]
     return out
 
 

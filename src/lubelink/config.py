@@ -316,7 +316,41 @@ def resolve(source="paper", overrides=None) -> Config:
     overrides : dict, optional
         ``{"section.key": value}`` applied last (the configuration is validated once, with them
         applied: the faults of the source and of the overrides are reported together).
+
+    A scenario name with overrides of plain values (``str``, ``bool``, ``int``, ``float``) is
+    resolved once per process and the same (frozen) configuration returned after that
+    (:func:`_named`): a study that runs a scenario many times does not validate it each time.
     """
+    if isinstance(source, str) and source in SCENARIOS:
+        key = _plain_items(overrides)
+        if key is not None:
+            return _named(source, key)
+    return _resolve(source, overrides)
+
+
+def _plain_items(overrides):
+    """``overrides`` as a hashable key ``((name, type, value), ...)``, or None if a value is not a plain scalar.
+
+    The type is part of the key: ``1``, ``1.0`` and ``True`` are equal in Python but not to validation.
+    """
+    if not overrides:
+        return ()
+    try:
+        items = tuple(dict(overrides).items())
+    except (TypeError, ValueError):
+        return None
+    if not all(type(name) is str and type(value) in (str, bool, int, float) for name, value in items):
+        return None
+    return tuple((name, type(value), value) for name, value in items)
+
+
+@lru_cache(maxsize=64)
+def _named(name, key):
+    """:func:`resolve` of the scenario ``name`` with the overrides of :func:`_plain_items` ``key``, remembered."""
+    return _resolve(name, {item[0]: item[2] for item in key})
+
+
+def _resolve(source, overrides):
     problems = []
     if isinstance(source, Config):
         config = source

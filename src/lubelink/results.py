@@ -204,11 +204,12 @@ def dataset(results: Results):
     direct = getattr(xr.Dataset, "_construct_direct", None)
     if direct is not None and all(dims == (name,) for name, (dims, _, _) in results.coords.items()):
         try:
+            import pandas as pd
             from xarray.core.indexes import PandasIndex
 
             variables, indexes = {}, {}
             for name, (dims, data, attrs) in results.coords.items():
-                indexes[name] = PandasIndex(data, name)
+                indexes[name] = PandasIndex(pd.Index(data, copy=False), name)  # (from a NumPy array: 1.5x the time)
                 variables[name] = indexes[name].create_variables()[name]  # on the index's own pandas.Index
                 variables[name].attrs = attrs
             for name, (dims, data, attrs) in results.data_vars.items():

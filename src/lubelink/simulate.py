@@ -154,6 +154,18 @@ def _compile_on_two_cores(model, motion, method):
     _prewarm.wait(helper)
 
 
+#: ``(method, id(parameter type))``: the step budget of a call into compiled code measured by the
+#: last run of that kind (:func:`run`): a run like an earlier one takes one call for a short segment
+#: instead of a first call of ``integrate.STEPS_PER_CALL`` steps (about 50 us each). Numba's types
+#: are interned, so their identities stay unique.
+_STEP_BUDGETS: dict = {}
+
+
+def _compiled_loop(model, method):
+    """Whether ``model`` integrates in the compiled loop with ``method`` (its name)."""
+    return model.compiled and method in integrate.COMPILED_METHODS
+
+
 def _failure_message(message, config):
     """A failed integration's ``message``, with the cause where the configuration is known to make the
     loads unbounded (a film without a floor that a compliant contact closes)."""
@@ -208,7 +220,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     out_method = method_name(config)
     method = integrate.method(out_method)
     options = {"omega": model.state_frequencies, "zeta": config.beam.damping_ratio}
-    if model.compiled and out_method in integrate.COMPILED_METHODS:
+    if _compiled_loop(model, out_method):
         _compile_on_two_cores(model, motion, method)
     t = 0.0
     y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(model.initial_state().size)
@@ -221,10 +233,11 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         out.status, out.message, out.event_time = "out_of_domain", f"at t = 0 s: {exited[1]}", 0.0
     y = model.to_state(y)
     sustained = config.contact.law == "restitution"
-    steps_per_call = integrate.STEPS_PER_CALL  # then the previous segment's measured budget
+    budget_key = (out_method, id(model.params_type)) if _compiled_loop(model, out_method) else None
+    steps_per_call = _STEP_BUDGETS.get(budget_key, integrate.STEPS_PER_CALL)  # then each segment's measured budget
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
-        compiled_loop = model.compiled and out_method in integrate.COMPILED_METHODS
+        compiled_loop = _compiled_loop(model, out_method)
         try:
             seg = integrate.integrate(method, *model.functions(), model.with_phase(phase), t, y, s.t_end,
                                       t_eval[t_eval > t], rtol=s.rtol, atol=s.atol, max_step=s.max_step,
@@ -254,6 +267,8 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         out.nfev += seg.nfev
         out.nsteps += seg.nsteps
         steps_per_call = seg.extra["steps_per_call"]
+        if compiled_loop and budget_key is not None:
+            _STEP_BUDGETS[budget_key] = steps_per_call
         if exited is not None:
             out.status, out.event_time = "out_of_domain", float(seg_t[-1])
             out.message = f"at t = {seg_t[-1]:.9g} s: {exited[1]}"
