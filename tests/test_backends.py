@@ -38,6 +38,7 @@ CASES = {
     "short-swift-stieber": {"film.reynolds": "short", "film.model": "wedge+squeeze", "film.cavitation": "reynolds",
                             "film.cavitation_pressure": 1e5, "film.grid_points": 51},
     "centre-mass-gravity": {"film.pad_reference": "centre", "collar.mass": 0.3, "mechanism.gravity": [0.0, -9.81]},
+    "many-nodes": {"film.quadrature_nodes": 128},  # (the film's scratch beyond film.force.STACK_SCRATCH: on the heap)
     "dry": {"film.model": "none"},
     "printed": {"model.equations": "printed"},
     "compliant": {"contact.law": "compliant"},

@@ -1,9 +1,12 @@
-"""The compiled code's rules (:mod:`lubelink._jit`): the integration methods keep no reference counts.
+"""The compiled code's rules (:mod:`lubelink._jit`): the integration methods keep no reference counts,
+scratch on the stack.
 
 * Numba really compiles the functions of :data:`~lubelink._jit.UNCOUNTED` without them: it refuses
   an allocation there, and compiles the same function elsewhere;
 * none of those functions returns one of its arguments (the one array Numba lets a function without
-  counts return, which a caller that counts would then release once too often).
+  counts return, which a caller that counts would then release once too often);
+* :func:`~lubelink._jit.stack_empty` gives compiled code a working array of a constant size, used by
+  many calls in a row and by a callee, and refuses a size that is not a constant.
 """
 
 import ast
@@ -83,3 +86,43 @@ def test_the_check_finds_a_returned_argument():
                      "@jitable\ndef g(W, h):\n    return h\n")
     funcs = list(_compiled_functions(tree))
     assert [_returned_arguments(f) for f in funcs] == [["W"], []]
+
+
+SCRATCH = 24
+
+
+def _scratch_sums(x):
+    """For each ``x[i]``, the sum of ``x[i] k`` for ``k < SCRATCH``, through a stack scratch filled by a callee."""
+    out = np.empty(x.shape[0])
+    ws = _jit.stack_empty(SCRATCH)
+    for i in range(x.shape[0]):
+        _fill(ws, x[i])
+        s = 0.0
+        for k in range(SCRATCH):
+            s += ws[k]
+        out[i] = s
+    return out
+
+
+def _fill(ws, a):
+    for k in range(ws.shape[0]):
+        ws[k] = a * k
+
+
+def test_stack_scratch_is_an_array_of_its_size_in_both_backends():
+    fill = numba.njit(_fill)
+    compiled = numba.njit(types.FunctionType(_scratch_sums.__code__, {**_scratch_sums.__globals__, "_fill": fill}))
+    x = np.linspace(-3.0, 5.0, 1001)
+    expected = x * SCRATCH * (SCRATCH - 1) / 2
+    np.testing.assert_allclose(compiled(x), expected, rtol=1e-15)
+    np.testing.assert_allclose(_scratch_sums(x), expected, rtol=1e-15)
+    assert _jit.stack_empty(5).shape == (5,) and _jit.stack_empty(5).dtype == np.float64
+
+
+def test_stack_scratch_needs_a_constant_size():
+    @numba.njit
+    def sized(n):
+        return _jit.stack_empty(n).shape[0]
+
+    with pytest.raises(numba.core.errors.TypingError, match="stack_empty"):
+        sized(7)

@@ -34,7 +34,9 @@ import warnings
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["jitable", "kernel", "ENABLED", "UNCOUNTED", "package_stamp", "NumbaUnavailable"]
+import numpy as np
+
+__all__ = ["jitable", "kernel", "stack_empty", "ENABLED", "UNCOUNTED", "package_stamp", "NumbaUnavailable"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _MARKERS = (b"@jitable", b"@kernel")
@@ -140,6 +142,55 @@ def kernel(func):
         return _PyKernel(func)
     _install_locators()
     return numba.njit(cache=True, nogil=True, error_model="numpy", **_options(func))(func)
+
+
+def stack_empty(size):
+    """``np.empty(size)`` of floats; in compiled code an array on the calling function's stack.
+
+    For the scratch of a function called in the hot loop (the film force, at every evaluation of the
+    right-hand side): a heap allocation and its release there cost more than the arithmetic
+    (``paper``'s integration 6.5 -> 5.7 ms without them, benchmarks/README.md). In compiled code
+    ``size`` must be a constant (a module's integer) and the array must not outlive the call that
+    made it: neither returned nor stored. From Python it is ``np.empty(size)``.
+    """
+    return np.empty(size)
+
+
+def _compile_stack_empty():
+    """:func:`stack_empty` for compiled code: an ``alloca`` in the entry block, a C-contiguous array without
+    a memory owner (Numba's reference counts skip it), written with Numba's ``intrinsic`` and ``overload``."""
+    from numba.core import cgutils, types
+    from numba.core.errors import TypingError
+    from numba.extending import intrinsic, overload
+    from numba.np.arrayobj import populate_array
+
+    array_type = types.Array(types.float64, 1, "C")
+
+    @intrinsic
+    def on_stack(typingctx, size):
+        if not isinstance(size, types.IntegerLiteral) or size.literal_value < 1:
+            raise TypingError(f"stack_empty: the size must be a positive integer constant, not {size}")
+        n = size.literal_value
+
+        def codegen(context, builder, signature, args):
+            data = cgutils.alloca_once(builder, context.get_value_type(types.float64), size=n)
+            array = context.make_array(array_type)(context, builder)
+            intp = context.get_value_type(types.intp)
+            populate_array(array, data=data, shape=cgutils.pack_array(builder, [intp(n)]),
+                           strides=cgutils.pack_array(builder, [intp(8)]), itemsize=intp(8), meminfo=None)
+            return array._getvalue()
+
+        return array_type(size), codegen
+
+    @overload(stack_empty, prefer_literal=True)
+    def _stack_empty(size):
+        if isinstance(size, types.IntegerLiteral):
+            return lambda size: on_stack(size)
+        raise TypingError(f"stack_empty: the size must be an integer constant in compiled code, not {size}")
+
+
+if ENABLED:
+    _compile_stack_empty()
 
 
 @lru_cache(maxsize=1)

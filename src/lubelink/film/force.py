@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._jit import jitable, kernel
+from .._jit import jitable, kernel, stack_empty
 from ..params import Film, kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
                        WEDGE_SQUEEZE, effective_film, grid_modal_force, pad_start, pressure_gradient,
@@ -21,6 +21,12 @@ from .width import ONE_D, width_side, width_sines
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
            "modal_force", "resultant_force", "SIN", "COS", "VERS"]
+
+
+#: Entries of the film's scratch (``2 N + 3 nodes``, :func:`_film_side`) kept on the stack of the
+#: compiled right-hand side (:func:`lubelink._jit.stack_empty`): up to 32 modes at 64 nodes; a larger
+#: film allocates its scratch at each evaluation.
+STACK_SCRATCH = 256
 
 
 class PadTables(NamedTuple):
@@ -249,7 +255,8 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
         return 0.0
     x0 = pad_start(x_star, f.pad_length, f.pad_reference)
     N = q.shape[0]
-    ws = np.empty(2 * N + 3 * pad.quad.shape[1])
+    need = 2 * N + 3 * pad.quad.shape[1]
+    ws = stack_empty(STACK_SCRATCH) if need <= STACK_SCRATCH else np.empty(need)
     for n in range(N):
         ws[n] = np.sin((n + 1) * np.pi / L * x0)
         ws[N + n] = np.cos((n + 1) * np.pi / L * x0)

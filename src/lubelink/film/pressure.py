@@ -22,18 +22,19 @@ __all__ = ["pressure_on_breaks", "pad_pressure_many", "pressure", "pad_pressure"
 
 # --- the pressure on the pad ---------------------------------------------------------------------------
 @jitable
-def pressure_on_breaks(breaks, xi, xi_t, V_r, mu, w, Sm, out):
+def pressure_on_breaks(breaks, xi, xi_t, V_r, mu, w, Sm, out, Q):
     """Gauge pressure [Pa] at ``breaks`` (``p_g = 0`` at both ends) from the film at the GL nodes of each piece.
 
     ``xi``, ``xi_t`` shape ``(M, n)``: the film [m] and its rate [m/s] at the ``n`` Gauss-Legendre
     nodes (weights ``w`` on ``[0, 1]``) of each of the ``M`` pieces between consecutive
     ``breaks``; ``xi_t`` empty (shape ``(M, 0)``) for the wedge film. ``Sm``:
     :func:`integration_matrix` of ``n``. The pressure is the running integral of
-    :func:`pressure_gradient`. Writes ``out``, shape ``(M + 1,)``.
+    :func:`pressure_gradient`. Writes ``out``, shape ``(M + 1,)``; ``Q`` is scratch of shape
+    ``(M, n)`` for ``int xi_t`` at the nodes (not read with the wedge film: any shape), allocated
+    by the caller once for many states.
     """
     M, n = xi.shape
     squeeze = xi_t.shape[1] > 0
-    Q = np.zeros((M, n) if squeeze else (1, 1))
     if squeeze:
         Q_start = 0.0
         for k in range(M):
@@ -89,6 +90,9 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
     s0 = np.empty(N)
     c0 = np.empty(N)
     xi = np.empty(n_pts)
+    squeeze = f.model == WEDGE_SQUEEZE
+    xi_t = np.zeros(n_pts if squeeze else 0)
+    Q = np.empty((M, n_pts // M) if squeeze else (1, 1))
     for i in range(T):
         x0 = pad_start(x_star[i], f.pad_length, f.pad_reference)
         for m in range(N):
@@ -102,11 +106,11 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
             _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])
             continue
         n = n_pts // M
-        xi_t = np.zeros(n_pts if f.model == WEDGE_SQUEEZE else 0)
-        if f.model == WEDGE_SQUEEZE:
+        if squeeze:
+            xi_t[:] = 0.0
             add_deflection(q_dot[i], s0, c0, sin_p, cos_p, -side, xi_t)
         pressure_on_breaks(X, xi.reshape((M, n)), xi_t.reshape((M, xi_t.shape[0] // M)), V_r[i], f.viscosity,
-                           w, Sm, out[i])
+                           w, Sm, out[i], Q)
         if f.cavitation == HALF_SOMMERFELD:
             for k in range(M + 1):
                 out[i, k] = max(out[i, k], p_cav)
@@ -134,7 +138,7 @@ def _reynolds_sample(X, xi_mid, q_dot, s0, c0, V_r, side, f, sin_g, cos_g, out):
 @kernel
 def _pressure_kernel(breaks, xi, xi_t, V_r, mu, w, Sm):
     out = np.empty(breaks.shape[0])
-    pressure_on_breaks(breaks, xi, xi_t, V_r, mu, w, Sm, out)
+    pressure_on_breaks(breaks, xi, xi_t, V_r, mu, w, Sm, out, np.empty(xi.shape if xi_t.shape[1] > 0 else (1, 1)))
     return out
 
 
