@@ -140,3 +140,23 @@ def test_contact_force_is_zero_outside_contact_and_never_adhesive():
     q = (2.5e-3 - 5e-6 + 1e-6) / np.sin(np.pi * x_edge)
     F, f = m.contact_force(0.0, np.array([q, -10.0]), ContactPhase(side=1, v_minus=0.01))
     assert f == 0.0
+
+
+def test_the_remembered_parameter_type_is_numbas_type_of_the_parameters():
+    """``assembly.params_type`` (keyed by the layout of the parameters) gives ``numba.typeof`` of them, also
+    where only an array's flags differ (read-only, Fortran order): the layout key tells those apart."""
+    numba = pytest.importorskip("numba")
+    from lubelink import assembly
+
+    cases = [("paper", None), ("paper-dry", {"beam.modes": 3}), ("lubricated", None),
+             ("paper", {"film.cavitation": "reynolds", "film.model": "wedge+squeeze"}),
+             ("paper", {"beam.width_ratio": 0.5})]
+    for scenario, overrides in cases:
+        p = build_model(resolve(scenario, overrides)).params
+        assert assembly.params_type(p) == numba.typeof(p), scenario
+        frozen = p.basis.omega_n.copy()
+        frozen.flags.writeable = False
+        variants = [p._replace(basis=p.basis._replace(omega_n=frozen)),
+                    p._replace(pad=p.pad._replace(trig=np.asfortranarray(p.pad.trig)))]
+        for q in variants:
+            assert assembly.params_type(q) == numba.typeof(q) != numba.typeof(p), scenario

@@ -29,14 +29,18 @@ log = logging.getLogger("lubelink")
 
 
 # --- parameters ---------------------------------------------------------------------------------------
+#: The bits of ``ndarray.flags.num`` that Numba's array type depends on: C- and Fortran-contiguous,
+#: aligned, writeable (NumPy's ``NPY_ARRAY_*`` values, part of its C API).
+_TYPED_FLAGS = 0x0001 | 0x0002 | 0x0100 | 0x0400
+
+
 def _layout(value):
     """What decides the Numba type of ``value``: its Python type, and for an array its dimensions,
     dtype and flags, recursively through tuples (None stays None)."""
     if isinstance(value, tuple):
-        return type(value), tuple(_layout(v) for v in value)
+        return type(value), tuple(map(_layout, value))
     if isinstance(value, np.ndarray):
-        f = value.flags
-        return value.ndim, value.dtype.str, f.c_contiguous, f.f_contiguous, f.writeable, f.aligned
+        return value.ndim, value.dtype.str, value.flags.num & _TYPED_FLAGS
     return type(value)
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 from dataclasses import dataclass, field, fields, replace
+from functools import lru_cache
 
 __all__ = [
     "Mechanism",
@@ -483,18 +484,24 @@ def kernel_view(section):
     Floats stay floats and integers integers (so every configuration gives compiled code the same
     types); a choice becomes its index in :data:`CHOICES`; a pair stays a tuple of floats.
     """
-    name, view = _VIEWS[type(section)]
+    view, plan = _view_plan(type(section))
     values = []
-    for f in fields(section):
-        v = getattr(section, f.name)
-        key = f"{name}.{f.name}"
-        if key in CHOICES:
-            v = CHOICES[key].index(v)
+    for field_name, choices, integer in plan:
+        v = getattr(section, field_name)
+        if choices is not None:
+            v = choices.index(v)
         elif isinstance(v, tuple):
             v = tuple(float(c) for c in v)
-        elif isinstance(v, bool) or f.type in ("int", int):
+        elif integer or isinstance(v, bool):
             v = int(v)
         else:
             v = float(v)
         values.append(v)
     return view(*values)
+
+
+@lru_cache(maxsize=None)
+def _view_plan(cls):
+    """``(view, ((field, choices or None, integer), ...))`` of a section class, for :func:`kernel_view`."""
+    name, view = _VIEWS[cls]
+    return view, tuple((f.name, CHOICES.get(f"{name}.{f.name}"), f.type in ("int", int)) for f in fields(cls))
