@@ -16,7 +16,7 @@ from .._jit import jitable, kernel, stack_empty
 from ..params import Film, kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
                        WEDGE_SQUEEZE, effective_film, grid_modal_force, pad_start, pressure_gradient,
-                       reynolds_cavitation, reynolds_constant, xi3_pressure_gradient)
+                       reynolds_cavitation, reynolds_constant)
 from .width import ONE_D, width_side, width_sines
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
@@ -201,13 +201,12 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
         xi = effective_film(ws[o_xi + j], f.thickness_floor)
         ws[o_xi + j] = xi
         w_inv3 = pad.quad[1, j] / (xi * xi * xi)
-        ws[o_wdp + j] = w_inv3  # (w p' = w xi^-3 times xi^3 p', below: one division a node)
         I1 += w_inv3 * xi
         I2 += w_inv3
         I3 += w_inv3 * ws[o_Q + j]
     C = reynolds_constant(I1, I2, I3, V_r, mu)
     for j in range(nodes):
-        ws[o_wdp + j] *= xi3_pressure_gradient(ws[o_xi + j], ws[o_Q + j], C, V_r, mu)
+        ws[o_wdp + j] = pad.quad[1, j] * pressure_gradient(ws[o_xi + j], ws[o_Q + j], C, V_r, mu)
     if f.cavitation == HALF_SOMMERFELD:
         return _half_sommerfeld_side(side, ws, nodes, f, B, pad, pad.S, F)
     # no cavitation: by parts, F_n = B int p' W_n and the resultant B int p' X

@@ -13,7 +13,7 @@ import numpy as np
 from .._jit import jitable
 from ..params import CHOICES
 
-__all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "xi3_pressure_gradient", "reynolds_cavitation", "effective_film",
+__all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film",
            "grid_modal_force"]
 
 NO_FILM, WEDGE, WEDGE_SQUEEZE = (CHOICES["film.model"].index(v) for v in ("none", "wedge", "wedge+squeeze"))
@@ -83,14 +83,7 @@ def pressure_gradient(xi, Q, C, V_r, mu):
     V_r, mu : float
         [m/s], [Pa s].
     """
-    return xi3_pressure_gradient(xi, Q, C, V_r, mu) / (xi * xi * xi)
-
-
-@jitable
-def xi3_pressure_gradient(xi, Q, C, V_r, mu):
-    """``xi^3 p_g' = 6 mu V_r xi + 12 mu Q + C`` [Pa m^2]: :func:`pressure_gradient` times ``xi^3``, for a
-    caller that holds ``1 / xi^3`` already (the film force's quadrature, from the constant's integrals)."""
-    return 6.0 * mu * V_r * xi + 12.0 * mu * Q + C
+    return (6.0 * mu * V_r * xi + 12.0 * mu * Q + C) / (xi * xi * xi)
 
 
 @jitable
