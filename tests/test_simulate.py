@@ -172,6 +172,7 @@ def test_a_film_without_floor_closed_by_a_compliant_contact_stops_with_a_named_f
 
 
 def test_partial_results_on_timeout():
+    lubelink.simulate("paper")  # (its measured step budget, 50 ms of steps, is remembered)
     ds = lubelink.simulate("paper", set={"solver.max_wall_time": 1e-3})
     assert ds.attrs["status"] == "timeout" and ds.attrs["complete"] == 0
     assert "max_wall_time" in ds.attrs["message"]

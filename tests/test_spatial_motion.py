@@ -226,16 +226,18 @@ def test_planar_and_spatial_motions_are_refused_by_the_other_model():
 def test_simulate_validates_the_spatial_mechanism_once(monkeypatch):
     """``simulate(name, set=...)`` turns the crank over a turn (the validation of the spatial mechanism) once:
     not for the scenario and again after the overrides; a mechanism seen before is remembered."""
-    from lubelink import spatial_motion
+    from lubelink import config, spatial_motion
 
     cached = spatial_motion.collar_travel
     cached.cache_clear()
     for _ in range(2):
+        config._named.cache_clear()  # (else the second resolve returns the first's configuration unvalidated)
         lubelink.simulate("spatial-slider-crank", set={"mechanism.crank_tilt": 0.25, "solver.t_end": 0.01})
     info = cached.cache_info()
     assert (info.misses, info.hits) == (1, 1)
     calls = []
     monkeypatch.setattr(spatial_motion, "collar_travel", lambda m, samples=721: calls.append(m) or cached(m, samples))
+    config._named.cache_clear()
     lubelink.simulate("spatial-slider-crank", set={"solver.t_end": 0.01})
     assert [m.crank_tilt for m in calls] == [0.2]
 

@@ -18,6 +18,7 @@ from .contact import ContactLogic
 from ._prewarm import first_run
 from .assembly import build_model, compile_failed
 from .errors import BackendError
+from .integrate.driver import CALL_SECONDS
 from .results import to_dataset
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name"]
@@ -156,7 +157,8 @@ def _compile_on_two_cores(model, motion, method):
 
 #: ``(method, id(parameter type))``: the step budget of a call into compiled code measured by the
 #: last run of that kind (:func:`run`): a run like an earlier one takes one call for a short segment
-#: instead of a first call of ``integrate.STEPS_PER_CALL`` steps (about 50 us each). Numba's types
+#: instead of a first call of ``integrate.STEPS_PER_CALL`` steps (about 50 us each), unless its
+#: deadline (``solver.max_wall_time``) comes sooner than the budget's ``CALL_SECONDS``. Numba's types
 #: are interned, so their identities stay unique.
 _STEP_BUDGETS: dict = {}
 
@@ -234,7 +236,9 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     y = model.to_state(y)
     sustained = config.contact.law == "restitution"
     budget_key = (out_method, id(model.params_type)) if _compiled_loop(model, out_method) else None
-    steps_per_call = _STEP_BUDGETS.get(budget_key, integrate.STEPS_PER_CALL)  # then each segment's measured budget
+    # an earlier run's budget fills CALL_SECONDS: not before a nearer deadline, which the first return checks
+    carried = deadline is None or deadline - time.perf_counter() > CALL_SECONDS
+    steps_per_call = _STEP_BUDGETS.get(budget_key, integrate.STEPS_PER_CALL) if carried else integrate.STEPS_PER_CALL
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
         compiled_loop = _compiled_loop(model, out_method)
