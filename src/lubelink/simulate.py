@@ -18,7 +18,6 @@ from .contact import ContactLogic
 from ._prewarm import first_run
 from .assembly import build_model, compile_failed
 from .errors import BackendError
-from .integrate.driver import CALL_SECONDS
 from .results import to_dataset
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name"]
@@ -157,9 +156,8 @@ def _compile_on_two_cores(model, motion, method):
 
 #: ``(method, id(parameter type))``: the step budget of a call into compiled code measured by the
 #: last run of that kind (:func:`run`): a run like an earlier one takes one call for a short segment
-#: instead of a first call of ``integrate.STEPS_PER_CALL`` steps (about 50 us each), unless its
-#: deadline (``solver.max_wall_time``) comes sooner than the budget's ``CALL_SECONDS``. Numba's types
-#: are interned, so their identities stay unique.
+#: instead of a first call of ``integrate.STEPS_PER_CALL`` steps (about 50 us each; the driver keeps
+#: to those before a nearer deadline). Numba's types are interned, so their identities stay unique.
 _STEP_BUDGETS: dict = {}
 
 
@@ -236,9 +234,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     y = model.to_state(y)
     sustained = config.contact.law == "restitution"
     budget_key = (out_method, id(model.params_type)) if _compiled_loop(model, out_method) else None
-    # an earlier run's budget fills CALL_SECONDS: not before a nearer deadline, which the first return checks
-    carried = deadline is None or deadline - time.perf_counter() > CALL_SECONDS
-    steps_per_call = _STEP_BUDGETS.get(budget_key, integrate.STEPS_PER_CALL) if carried else integrate.STEPS_PER_CALL
+    steps_per_call = _STEP_BUDGETS.get(budget_key, integrate.STEPS_PER_CALL)  # then each segment's measured budget
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
         compiled_loop = _compiled_loop(model, out_method)
@@ -271,7 +267,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         out.nfev += seg.nfev
         out.nsteps += seg.nsteps
         steps_per_call = seg.extra["steps_per_call"]
-        if compiled_loop and budget_key is not None:
+        if compiled_loop:
             _STEP_BUDGETS[budget_key] = steps_per_call
         if exited is not None:
             out.status, out.event_time = "out_of_domain", float(seg_t[-1])

@@ -317,7 +317,8 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
         Steps of the first call into compiled code, before the speed of a step is known; a caller
         that integrates many segments passes on the ``extra["steps_per_call"]`` of the previous
         one, so that a short segment takes one call (each costs about 50 us to convert the
-        arguments).
+        arguments). With a ``deadline`` nearer than :data:`CALL_SECONDS` at most
+        :data:`STEPS_PER_CALL`.
 
     Returns
     -------
@@ -341,7 +342,9 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
     fst[F_TFINAL] = t0
     ist = np.zeros(method.ints, dtype=np.int64)
     ist[S_EVENT] = int(event_sign != 0)
-    ist[S_MAXSTEPS] = steps_per_call
+    # a budget fills CALL_SECONDS: before a nearer deadline the first call takes STEPS_PER_CALL, and its return checks it
+    near = deadline is not None and deadline - time.perf_counter() <= CALL_SECONDS
+    ist[S_MAXSTEPS] = min(steps_per_call, STEPS_PER_CALL) if near else steps_per_call
     if method.setup is not None:
         method.setup(W, fst, ist, options or {})
     out = np.empty((t_eval.size, n), dtype=dtype)
