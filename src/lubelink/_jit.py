@@ -148,8 +148,8 @@ def stack_empty(size):
     """``np.empty(size)`` of floats; in compiled code an array on the calling function's stack.
 
     For the scratch of a function called in the hot loop (the film force, at every evaluation of the
-    right-hand side): a heap allocation and its release there cost more than the arithmetic
-    (``paper``'s integration 6.5 -> 5.7 ms without them, benchmarks/README.md). In compiled code
+    right-hand side): a heap allocation and its release there cost about 70 ns an evaluation
+    (``paper``'s integration 0.93-0.96x without them in paired runs, benchmarks/README.md). In compiled code
     ``size`` must be a constant (a module's integer) and the array must not outlive the call that
     made it: neither returned nor stored. From Python it is ``np.empty(size)``.
     """

@@ -90,9 +90,10 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
     s0 = np.empty(N)
     c0 = np.empty(N)
     xi = np.empty(n_pts)
+    n = n_pts // M
     squeeze = f.model == WEDGE_SQUEEZE
     xi_t = np.zeros(n_pts if squeeze else 0)
-    Q = np.empty((M, n_pts // M) if squeeze else (1, 1))
+    Q = np.empty((M, n) if squeeze else (1, 1))
     for i in range(T):
         x0 = pad_start(x_star[i], f.pad_length, f.pad_reference)
         for m in range(N):
@@ -105,7 +106,6 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
         if f.cavitation == REYNOLDS:
             _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])
             continue
-        n = n_pts // M
         if squeeze:
             xi_t[:] = 0.0
             add_deflection(q_dot[i], s0, c0, sin_p, cos_p, -side, xi_t)
