@@ -17,7 +17,7 @@ import sys
 import numpy as np
 import pytest
 
-from lubelink import params
+from lubelink import views
 from lubelink.config import resolve
 from lubelink.kinematics import PrescribedMotion, SliderCrank, sampled_motion
 from lubelink.model import BackendError, build_model, gap, rhs
@@ -74,10 +74,12 @@ def test_compiled_kernels_equal_their_python_source(case, modes):
 
 def test_parameter_views_are_importable_by_name():
     """Numba keys its on-disk cache on the parameter types: each view class must pickle by reference."""
-    for cls in (params.MechanismView, params.BeamView, params.FilmView, params.CollarView, params.ContactView,
-                params.ModelOptionsView):
+    for cls in (views.MechanismView, views.BeamView, views.FilmView, views.CollarView, views.ContactView,
+                views.ModelOptionsView):
         assert pickle.loads(pickle.dumps(cls)) is cls
-        assert getattr(params, cls.__name__) is cls
+        assert getattr(views, cls.__name__) is cls
+        # a cache index of an earlier version names them in lubelink.params: it must still unpickle
+        assert pickle.loads(f"clubelink.params\n{cls.__name__}\n.".encode()) is cls
 
 
 # --------------------------------------------------------------------------------------------------

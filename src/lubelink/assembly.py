@@ -21,7 +21,8 @@ from .errors import BackendError
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
 from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, event_with, gap, in_sustained, rhs,
                     rhs_with, sustained_force_many, sustained_given, thinnest_given)
-from .params import Config, kernel_view
+from .params import Config
+from .views import kernel_view
 
 __all__ = ["Model", "build_model", "compile_failed", "interpreted", "make_params"]
 

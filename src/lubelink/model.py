@@ -65,7 +65,7 @@ Phase = ContactPhase
 class Params(NamedTuple):
     """Everything compiled code reads, generated from a :class:`~lubelink.params.Config`.
 
-    The sections are :func:`~lubelink.params.kernel_view` s of the dataclasses (same field
+    The sections are :func:`~lubelink.views.kernel_view` s of the dataclasses (same field
     names); ``basis``, ``pad`` and ``motion`` are tables derived from them; ``phase`` is the
     compliant contact of the segment; ``galerkin`` the eigenbasis of a variable section
     (:class:`~lubelink.section.GalerkinTable`; None for a uniform link, whose state is the sine

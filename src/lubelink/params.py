@@ -4,18 +4,16 @@ Every field is in SI. Values are validated once, at the boundary (:func:`lubelin
 never inside numerical code. The field names are the TOML keys of the corresponding section; the
 glossary symbol of docs/model.md is given in brackets after the unit.
 
-Compiled code reads the same parameters as a *view*: a named tuple with the dataclass's field
-names, generated from the dataclass (:func:`kernel_view`), in which every choice (a string) is
-replaced by its index in the tuple of choices declared here, the one list the validation, the
-physics and the documentation share.
+Compiled code reads the same parameters as a *view* (:mod:`lubelink.views`): a named tuple with
+the dataclass's field names, in which every choice (a string) is replaced by its index in the
+tuple of choices declared here, the one list the validation, the physics and the documentation
+share.
 """
 
 from __future__ import annotations
 
 import math
-from collections import namedtuple
-from dataclasses import dataclass, field, fields, replace
-from functools import lru_cache
+from dataclasses import dataclass, field, replace
 
 __all__ = [
     "Mechanism",
@@ -29,7 +27,6 @@ __all__ = [
     "Config",
     "CHOICES",
     "FIELDS",
-    "kernel_view",
 ]
 
 #: The allowed values of every choice field, by ``section.key``; a choice's code in compiled code
@@ -461,47 +458,11 @@ SECTION_TYPES: dict[str, type] = {
 }
 
 
-def _view_type(cls):
-    view = namedtuple(f"{cls.__name__}View", [f.name for f in fields(cls)])
-    view.__module__ = __name__
-    return view
+def __getattr__(name):
+    """The compiled-code views, now in :mod:`lubelink.views`, by their old names here: Numba's on-disk
+    cache indexes written by earlier versions name them so, and must unpickle to be found stale."""
+    from . import views
 
-
-MechanismView = _view_type(Mechanism)
-BeamView = _view_type(Beam)
-FilmView = _view_type(Film)
-CollarView = _view_type(Collar)
-ContactView = _view_type(Contact)
-ModelOptionsView = _view_type(ModelOptions)
-_VIEWS = {Mechanism: ("mechanism", MechanismView), Beam: ("beam", BeamView), Film: ("film", FilmView),
-          Collar: ("collar", CollarView), Contact: ("contact", ContactView),
-          ModelOptions: ("model", ModelOptionsView)}
-
-
-def kernel_view(section):
-    """The compiled code's view of a parameter section: a named tuple with the same field names.
-
-    Floats stay floats and integers integers (so every configuration gives compiled code the same
-    types); a choice becomes its index in :data:`CHOICES`; a pair stays a tuple of floats.
-    """
-    view, plan = _view_plan(type(section))
-    values = []
-    for field_name, choices, integer in plan:
-        v = getattr(section, field_name)
-        if choices is not None:
-            v = choices.index(v)
-        elif isinstance(v, tuple):
-            v = tuple(float(c) for c in v)
-        elif integer or isinstance(v, bool):
-            v = int(v)
-        else:
-            v = float(v)
-        values.append(v)
-    return view(*values)
-
-
-@lru_cache(maxsize=None)
-def _view_plan(cls):
-    """``(view, ((field, choices or None, integer), ...))`` of a section class, for :func:`kernel_view`."""
-    name, view = _VIEWS[cls]
-    return view, tuple((f.name, CHOICES.get(f"{name}.{f.name}"), f.type in ("int", int)) for f in fields(cls))
+    if name in views.__all__:
+        return getattr(views, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -13,7 +13,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .._jit import jitable, kernel, stack_empty
-from ..params import Film, kernel_view
+from ..params import Film
+from ..views import kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
                        WEDGE_SQUEEZE, effective_film, grid_modal_force, pad_start, pressure_gradient,
                        reynolds_cavitation, reynolds_constant)
@@ -228,7 +229,7 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
     """Modal film forces added to ``F`` [N]; returns the resultant film force on the link along +j [N].
 
     ``F_n = -B int_pad p_g sin(beta_n x) dx`` (docs/model.md sections 2 and 4; the corrected
-    paper Eq. 20, gauge pressure) for every film of ``f`` (a :func:`lubelink.params.kernel_view`
+    paper Eq. 20, gauge pressure) for every film of ``f`` (a :func:`lubelink.views.kernel_view`
     of :class:`~lubelink.params.Film`): wedge or wedge and squeeze, one or two sides, cavitation
     none, half-Sommerfeld or Reynolds.
 
