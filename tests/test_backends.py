@@ -10,14 +10,12 @@
 * the compiled code is loaded from the on-disk cache by a second process.
 """
 
-import pickle
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 
-from lubelink import views
 from lubelink.config import resolve
 from lubelink.kinematics import PrescribedMotion, SliderCrank, sampled_motion
 from lubelink.model import BackendError, build_model, gap, rhs
@@ -70,16 +68,6 @@ def test_compiled_kernels_equal_their_python_source(case, modes):
         if model.watched:  # (a dry joint without contact law has no gap to watch)
             g_c, g_p = gap(t, y, p), gap.py_func(t, y, p)
             np.testing.assert_allclose(g_c, g_p, rtol=1e-10, atol=1e-15)
-
-
-def test_parameter_views_are_importable_by_name():
-    """Numba keys its on-disk cache on the parameter types: each view class must pickle by reference."""
-    for cls in (views.MechanismView, views.BeamView, views.FilmView, views.CollarView, views.ContactView,
-                views.ModelOptionsView):
-        assert pickle.loads(pickle.dumps(cls)) is cls
-        assert getattr(views, cls.__name__) is cls
-        # a cache index of an earlier version names them in lubelink.params: it must still unpickle
-        assert pickle.loads(f"clubelink.params\n{cls.__name__}\n.".encode()) is cls
 
 
 # --------------------------------------------------------------------------------------------------
