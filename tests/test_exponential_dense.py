@@ -6,6 +6,8 @@
 * chained along the samples (one rotation a sample) it is the direct evaluation.
 """
 
+import math
+
 import numpy as np
 import pytest
 
@@ -49,12 +51,16 @@ def test_dense_output_is_of_order_four():
 
 @pytest.mark.parametrize("zeta", [0.0, 0.02, 0.5, 0.99, 1.0, 2.0])
 @pytest.mark.parametrize("h", [1e-3, -0.02])
-def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, h):
-    """The two exact integrals of a step with a cubic load agree to rounding, from h omega = 0.01 to 1e3.
+@pytest.mark.parametrize("degree", [3, 5])
+def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, h, degree):
+    """The exact integrals of a step with a polynomial load agree to rounding, from h omega = 0.01 to 1e3.
 
     The dense output takes ``exp(tau A) (y_n - P(0)) + P(tau)`` with the polynomial particular
-    solution ``P`` for ``h omega >= 0.25`` (underdamped), the phi-functions below; here both see the
-    same random state and cubic, on either side of the switch and backwards in time.
+    solution ``P`` for ``h omega >= DENSE_H_OMEGA[degree]`` (underdamped), the Taylor series of
+    the solution below, the phi-functions for a block near or above critical damping;
+    here both see the same random state and load (the Runge-Kutta method's cubic, the Adams
+    method's quintic), on either side of the switch and backwards in time. The reference is the
+    variation-of-constants sum ``phi_0 y + h sum_k k! theta^(k+1) phi_(k+1) Q_k`` block by block.
     """
     from lubelink.integrate._layout import F_HSTEP, F_TOLD, R_YOLD
 
@@ -66,8 +72,8 @@ def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, 
     fst, ist = np.zeros(E.FLOATS), np.zeros(32, dtype=np.int64)
     E.setup(W, fst, ist, {"omega": omega, "zeta": zeta})
     W[R_YOLD] = rng.normal(size=2 * N) * np.concatenate([1.0 / omega, np.ones(N)])
-    W[E.R_Q:E.R_Q + 4] = rng.normal(size=(4, 2 * N))
-    fst[F_HSTEP], fst[F_TOLD] = h, 0.3
+    W[E.R_Q:E.R_Q + degree + 1] = rng.normal(size=(degree + 1, 2 * N))
+    fst[F_HSTEP], fst[F_TOLD], fst[E.F_DEGREE] = h, 0.3, degree
     for dense in (D.dense, D.dense.py_func):
         fst[E.F_PART] = 0.0
         for theta in (0.1, 0.5, 0.93, 1.0):
@@ -75,15 +81,21 @@ def test_dense_output_of_the_particular_solution_is_the_phi_functions_one(zeta, 
             t = 0.3 + theta * h
             dense(forced, np.zeros(3 + N), W, fst, ist, t, out)
             theta = (t - 0.3) / h  # as the dense output sees it
-            E._tables(W, h, theta, E.R_THETA, 5)
-            E._cubic_solution(W, h, E.R_THETA, R_YOLD, theta, E.R_ERR)
+            E._tables(W, h, theta, E.R_THETA, degree + 2)
+            W[E.R_ERR] = 0.0
+            for i in range(N):
+                E._apply_block(W, E.R_THETA, R_YOLD, E.R_ERR, 1.0, i)
+                for k in range(degree + 1):
+                    E._apply_block(W, E.R_THETA + k + 1, E.R_Q + k, E.R_ERR, math.factorial(k) * theta ** (k + 1) * h, i)
             ref = W[E.R_ERR].copy()
             rate = (zeta + np.sqrt(max(zeta * zeta - 1.0, 0.0))) * omega  # of the fastest-growing solution backwards
             growth = np.tile(np.exp(np.maximum(0.0, -rate * theta * h)), 2)
-            scale = (np.abs(W[R_YOLD]) + abs(h) * np.abs(W[E.R_Q:E.R_Q + 4]).sum(axis=0)) * growth
+            scale = (np.abs(W[R_YOLD]) + abs(h) * np.abs(W[E.R_Q:E.R_Q + degree + 1]).sum(axis=0)) * growth
             np.testing.assert_array_less(np.abs(out - ref), 1e-12 * scale)
-    used = ~np.isnan(W[E.R_TURN, :N])
-    assert used.sum() == (np.count_nonzero(omega * abs(h) >= D.DENSE_H_OMEGA) if zeta < D.DENSE_ZETA else 0)
+    particular = np.isfinite(W[E.R_TURN, :N])  # (-inf: the Taylor series, NaN: the phi-functions)
+    large = np.count_nonzero(omega * abs(h) >= D.DENSE_H_OMEGA[degree]) if zeta < D.DENSE_ZETA else 0
+    assert particular.sum() == large
+    assert np.count_nonzero(W[E.R_TURN, :N] == -np.inf) == (N - large if zeta < D.DENSE_ZETA else 0)
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.05])

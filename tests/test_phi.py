@@ -27,9 +27,9 @@ def test_phi_functions_of_a_block_against_the_augmented_exponential(zeta, h_omeg
     omega = 150.0
     ch = h_omega / omega
     A = np.array([[0.0, 1.0], [-omega**2, -2 * zeta * omega]])
-    a, b = np.empty(5), np.empty(5)
+    a, b = np.empty(7), np.empty(7)  # phi_0 .. phi_6: the sixth-order Adams method's
     phi_block(omega, zeta, ch, a, b)
-    for k in range(5):
+    for k in range(7):
         got = a[k] * np.eye(2) + b[k] * ch * A
         want = phi_reference(ch * A, k)
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * max(1.0, np.abs(want).max()))
@@ -37,7 +37,7 @@ def test_phi_functions_of_a_block_against_the_augmented_exponential(zeta, h_omeg
 
 def test_phi_functions_of_a_rigid_mode():
     """``omega = 0``: the block is nilpotent, ``phi_k(M) = I/k! + M/(k+1)!``."""
-    a, b = np.empty(5), np.empty(5)
+    a, b = np.empty(7), np.empty(7)
     phi_block(0.0, 0.0, 0.01, a, b)
-    fact = [1, 1, 2, 6, 24, 120]
-    np.testing.assert_allclose(a, [1 / fact[k] for k in range(5)], rtol=1e-15)
+    fact = [1, 1, 2, 6, 24, 120, 720, 5040]
+    np.testing.assert_allclose(a, [1 / fact[k] for k in range(7)], rtol=1e-15)

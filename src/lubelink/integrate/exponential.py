@@ -63,23 +63,30 @@ R_FU = R_U + 1  # f at a stage
 R_YNEW = R_FU + 1
 R_ERR = R_YNEW + 1
 R_GNEW = R_ERR + 1  # G at the new state of an attempted step
-R_Q = R_GNEW + 1  # the cubic for G over the last step, in powers of sigma = (t - t_n) / h: 4 rows
-R_HALF = R_Q + 4  # phi_0..phi_4 of (h/2) A: rows [a_1..a_N, b_1..b_N]
+#: Largest degree of the polynomial load of a step (the dense output's): 3 here, 5 in the Adams method.
+MAX_DEGREE = 5
+R_Q = R_GNEW + 1  # the polynomial G over the last step, in powers of sigma = (t - t_n) / h: MAX_DEGREE + 1 rows
+R_HALF = R_Q + MAX_DEGREE + 1  # phi_0..phi_4 of (h/2) A: rows [a_1..a_N, b_1..b_N]
 R_ONE = R_HALF + 5  # phi_0..phi_4 of h A
-R_THETA = R_ONE + 5  # phi_0..phi_4 of theta h A (dense output)
-R_QUARTER = R_THETA + 5  # phi_0..phi_4 of (h/4) A
-R_PART = R_QUARTER + 5  # the dense output's polynomial particular solution over the last step: 4 rows (powers of tau)
-R_FREE = R_PART + 4  # its free part at tau = 0, y_n - P(0)
+R_THETA = R_ONE + 5  # phi_0..phi_(degree + 1) of theta h A (dense output): MAX_DEGREE + 2 rows
+R_QUARTER = R_THETA + MAX_DEGREE + 2  # phi_0..phi_4 of (h/4) A
+R_PART = R_QUARTER + 5  # the dense output's polynomial particular solution over the last step (powers of tau)
+R_FREE = R_PART + MAX_DEGREE + 1  # its free part at tau = 0, y_n - P(0)
 R_TURN = R_FREE + 1  # (A + zeta omega I) R_FREE / omega_d
 R_LAST = R_TURN + 1  # exp(lambda tau) of each block at the last sample, [Re_1..Re_N, Im_1..Im_N]
 R_ROT = R_LAST + 1  # exp(lambda F_DTAU) of each block, the same layout
-ROWS_END = R_ROT + 1
-FLOATS = F_METHOD + 5
+#: Terms of the Taylor series in ``tau`` of a step's solution that the dense output sums for a block
+#: of small ``h omega`` (:mod:`.exponential_dense`).
+TAYLOR_TERMS = 17
+R_TAYLOR = R_ROT + 1  # those terms: TAYLOR_TERMS rows
+ROWS_END = R_TAYLOR + TAYLOR_TERMS
+FLOATS = F_METHOD + 6
 F_HOLD = F_METHOD  # the step the R_HALF, R_ONE, R_QUARTER tables were made for
 F_PART = F_METHOD + 1  # 1: R_PART, R_FREE, R_TURN hold the last accepted step's; 0: not yet
 F_TAU = F_METHOD + 2  # tau of the last sample of this step (R_LAST); NaN: none yet
 F_DTAU = F_METHOD + 3  # the spacing of the samples R_ROT was made for (0: none)
 F_CHAIN = F_METHOD + 4  # samples since the last one computed directly
+F_DEGREE = F_METHOD + 5  # the degree of the load polynomial R_Q (3: this method's cubic)
 #: A step accepted with a proposed change of its size by a factor in ``[KEEP_LOW, KEEP_HIGH]`` is
 #: kept, and so are its tables of phi-functions (the rule of Hairer & Wanner's RADAU5 for its LU
 #: factors; *Solving ODEs II*, IV.8): the tables cost about 40 % of the seven evaluations
@@ -349,6 +356,7 @@ def rk_init(rhs, p, W, fst, ist):
     _load(W, R_Y, R_F, R_G)
     fst[F_HOLD] = np.nan
     fst[F_PART] = 0.0
+    fst[F_DEGREE] = 3.0
     fst[F_H] = initial_step(rhs, p, W, fst, ist, ORDER, W[R_U], W[R_FU])
 
 
@@ -393,6 +401,7 @@ def rk_step(rhs, p, W, fst, ist):
             break
         rejected = True
         ist[S_NREJ] += 1
+    fst[F_DEGREE] = 3.0  # the dense output's load: the cubic of _load_cubic
     accept(W, fst, ist, t, t_new, h_abs)
     return True
 

@@ -20,30 +20,38 @@ from lubelink._jit import jitable
 
 __all__ = ["phi_functions", "phi_block"]
 
-_INV_FACTORIAL = (1.0, 1.0, 0.5, 1.0 / 6.0, 1.0 / 24.0)
+_INV_FACTORIAL = tuple(1.0 / math.factorial(k) for k in range(7))
 
 #: ``1 / (j + 5)!``, j = 0..16: the series of ``phi_5``; for ``|z| < 1`` its remainder is below ``1 / 22! < 1e-21``.
 _SERIES5 = tuple(1.0 / math.factorial(j + 5) for j in range(17))
+#: ``1 / (j + 7)!``, j = 0..16: the series of ``phi_7``, the same way.
+_SERIES7 = tuple(1.0 / math.factorial(j + 7) for j in range(17))
 
 
 @jitable
 def phi_functions(z):
-    """``(phi_0(z), ..., phi_5(z))`` for complex ``z``.
+    """``(phi_0(z), ..., phi_7(z))`` for complex ``z``.
 
-    For ``|z| < 1`` ``phi_5`` is summed as its series (Horner) and the others follow downwards
-    (``phi_k = z phi_{k+1} + 1/k!``, stable there); otherwise ``phi_0 = exp(z)`` and upwards
-    (``phi_{k+1} = (phi_k - 1/k!) / z``, stable for ``|z| >= 1``).
+    For ``|z| < 1`` ``phi_5`` and ``phi_7`` are summed as their series (Horner), ``phi_4 .. phi_0``
+    follow downwards from ``phi_5`` and ``phi_6`` from ``phi_7`` (``phi_k = z phi_{k+1} + 1/k!``,
+    stable there); otherwise ``phi_0 = exp(z)`` and upwards (``phi_{k+1} = (phi_k - 1/k!) / z``,
+    stable for ``|z| >= 1``). (``phi_0 .. phi_5`` are the same numbers whether or not a caller
+    uses the two highest: the fourth-order methods need ``phi_0 .. phi_4``, the sixth-order Adams
+    method ``phi_0 .. phi_6``, a double eigenvalue one more.)
     """
     if z.real * z.real + z.imag * z.imag < 1.0:
         p5 = 0.0 + 0.0j
+        p7 = 0.0 + 0.0j
         for j in range(16, -1, -1):
             p5 = p5 * z + _SERIES5[j]
+            p7 = p7 * z + _SERIES7[j]
+        p6 = z * p7 + _INV_FACTORIAL[6]
         p4 = z * p5 + _INV_FACTORIAL[4]
         p3 = z * p4 + _INV_FACTORIAL[3]
         p2 = z * p3 + _INV_FACTORIAL[2]
         p1 = z * p2 + 1.0
         p0 = z * p1 + 1.0
-        return p0, p1, p2, p3, p4, p5
+        return p0, p1, p2, p3, p4, p5, p6, p7
     w = 1.0 / z
     p0 = np.exp(z)
     p1 = (p0 - 1.0) * w
@@ -51,12 +59,14 @@ def phi_functions(z):
     p3 = (p2 - _INV_FACTORIAL[2]) * w
     p4 = (p3 - _INV_FACTORIAL[3]) * w
     p5 = (p4 - _INV_FACTORIAL[4]) * w
-    return p0, p1, p2, p3, p4, p5
+    p6 = (p5 - _INV_FACTORIAL[5]) * w
+    p7 = (p6 - _INV_FACTORIAL[6]) * w
+    return p0, p1, p2, p3, p4, p5, p6, p7
 
 
 @jitable
 def phi_block(omega, zeta, ch, out_a, out_b):
-    """``phi_k(M) = a_k I + b_k M`` for ``M = ch [[0, 1], [-omega^2, -2 zeta omega]]``, ``k < out_a.size <= 5``."""
+    """``phi_k(M) = a_k I + b_k M`` for ``M = ch [[0, 1], [-omega^2, -2 zeta omega]]``, ``k < out_a.size <= 7``."""
     K = out_a.shape[0]
     r = np.sqrt(complex(zeta * zeta - 1.0))
     l1 = ch * omega * (-zeta + r)
