@@ -2,27 +2,30 @@
 
 The problems of :mod:`.exponential`, ``y' = A y + G(t, y)`` with ``A`` block diagonal, by the
 exponential Adams methods of Hochbruck & Ostermann (*Exponential integrators*, Acta Numerica 19
-(2010) 209-286, Section 2.5): the load is replaced by the cubic ``G(t_n + sigma h) ~ sum_k Q_k
-sigma^k`` through its values at four points, and the variation-of-constants formula integrated
+(2010) 209-286, Section 2.5): the load is replaced by the quintic ``G(t_n + sigma h) ~ sum_k Q_k
+sigma^k`` through its values at six points, and the variation-of-constants formula integrated
 exactly with it::
 
     y_(n+1) = phi_0(hA) y_n + h sum_k k! phi_(k+1)(hA) Q_k
 
-(:func:`.exponential._cubic_solution`). The step is a PECE pair of order four on variable steps:
+(:func:`_solution`). The step is a PECE pair of order six on variable steps:
 
-* predict with the cubic through the loads at ``t_n, t_(n-1), t_(n-2), t_(n-3)`` (extrapolated);
-* evaluate the load there, correct with the cubic through ``t_(n+1), t_n, t_(n-1), t_(n-2)``;
+* predict with the quintic through the loads at ``t_n`` and the five steps before (extrapolated);
+* evaluate the load there, correct with the quintic through ``t_(n+1)``, ``t_n`` and four steps before;
 * the difference of the two is the error estimate (Milne's device: for constant steps the
-  corrector's error is ``19/270`` of it, :data:`MILNE`), evaluate the load at the corrected state:
-  two evaluations a step against the Runge-Kutta method's seven.
+  corrector's error is ``863/19950`` of it, :data:`MILNE`), evaluate the load at the corrected
+  state: two evaluations a step against the Runge-Kutta method's seven.
 
-The corrector's cubic is the load over the step, so the dense output is that of the Runge-Kutta
-method (:mod:`.exponential_dense`), unchanged. A segment starts with three steps of the
-Runge-Kutta method (:func:`.exponential.rk_step`), which leave the loads the first Adams step
-needs; so does every segment after an event. The multistep method pays for its cheap steps with
-a smaller stability region: where the load depends strongly on the state (a lubricant film, the
-spatial link's coupling) its steps are held short, and its error at loose tolerances is less
-reliable than the Runge-Kutta method's (docs/model.md section 7.1).
+Order six, not four: on the dry link (``paper-dry``, 1-15 modes, crank speed to 80 rad/s) it takes
+half the steps of the order-four pair of version 0.1 at the same tolerances, with half its error;
+its step costs more (the tables ``phi_0 .. phi_6``, fits of six loads), so a run takes 0.73-0.85x
+the time (benchmarks/README.md). The corrector's quintic is the load over the step, so the dense
+output is that of the Runge-Kutta method (:mod:`.exponential_dense`) with a quintic load. A
+segment starts with five steps of the Runge-Kutta method (:func:`.exponential.rk_step`), which
+leave the loads the first Adams step needs; so does every segment after an event. The multistep
+method pays for its cheap steps with a smaller stability region: where the load depends strongly
+on the state (a lubricant film, the spatial link's coupling) its steps are held short, and its
+error at loose tolerances is less reliable than the Runge-Kutta method's (docs/model.md section 7.1).
 """
 
 import numpy as np

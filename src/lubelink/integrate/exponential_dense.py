@@ -1,15 +1,17 @@
-"""Dense output of the exponential method (:mod:`.exponential`): its step's solution at any time inside it.
+"""Dense output of the exponential methods (:mod:`.exponential`, :mod:`.exponential_adams`): a step's solution at any time inside it.
 
-The step's solution with its load replaced by the cubic interpolant of the step's error estimate
-(:func:`.exponential._load_cubic`), integrated exactly: fourth order, like the step. At a sample
-the dense output evaluates ``exp(tau A) (y_n - P(0)) + P(tau)``, with ``P`` the cubic particular
-solution of the block (:func:`_particular`): one real ``exp``, ``cos``, ``sin`` per block, against
-five complex phi-functions (2.6x cheaper a sample); along the samples of ``t_eval``,
-``exp(lambda tau)`` follows from the previous sample's by one rotation (:data:`CHAIN_LENGTH`).
-Where ``h omega`` is small (``P`` would cancel) or the block is not underdamped, it falls back to
-the phi-functions (:func:`.exponential._cubic_solution`'s formula); the two agree to rounding.
+The step's solution with its load replaced by a polynomial (the Runge-Kutta method's cubic
+interpolant of its error estimate, :func:`.exponential._load_cubic`; the Adams method's corrector
+quintic), integrated exactly: of the step's order. At a sample the dense output evaluates
+``exp(tau A) (y_n - P(0)) + P(tau)``, with ``P`` the polynomial particular solution of the block
+(:func:`_particular`): one real ``exp``, ``cos``, ``sin`` per block, against the complex
+phi-functions (2.6x cheaper a sample); along the samples of ``t_eval``, ``exp(lambda tau)``
+follows from the previous sample's by one rotation (:data:`CHAIN_LENGTH`). Where ``h omega`` is
+small (``P`` would cancel) it sums the Taylor series of the step's solution (:func:`_taylor`);
+where the block is not underdamped it falls back to the phi-functions
+(:func:`.exponential._cubic_solution`'s formula). The three agree to rounding.
 
-This is the method's ``dense`` (:class:`lubelink.integrate.Method`); the rows and floats it uses
+This is the methods' ``dense`` (:class:`lubelink.integrate.Method`); the rows and floats it uses
 are laid out in :mod:`.exponential`.
 """
 
@@ -25,7 +27,7 @@ from .exponential import (F_CHAIN, F_DEGREE, F_DTAU, F_PART, F_TAU, R_FREE, R_LA
 __all__ = ["dense"]
 
 #: Smallest ``h omega`` at which the dense output of a block uses its particular solution (below,
-#: the phi-functions), by the degree of the load polynomial (3: the Runge-Kutta method's cubic, 5:
+#: the Taylor series of the solution), by the degree of the load polynomial (3: the Runge-Kutta method's cubic, 5:
 #: the Adams method's quintic): the particular solution's terms grow like ``d! / (h omega)^(d + 1)``
 #: against the solution, and so does their rounding error; these keep that growth below about 2000
 #: (rounding about 1e-13 of the state).
@@ -146,14 +148,15 @@ def _exp_lambda(om, zeta, tau):
 
 @kernel
 def dense(rhs, p, W, fst, ist, t, out):
-    """Fourth-order dense output of the last step at ``t``, into ``out``.
+    """Dense output of the last step at ``t``, into ``out``, of the step's order.
 
-    The step's solution with its load replaced by the cubic of :func:`_load_cubic`, integrated
-    exactly: for an underdamped block with ``h omega >=`` :data:`DENSE_H_OMEGA` through the
-    particular solution of :func:`_particular` (``exp(lambda tau)``: a real ``exp``, ``cos`` and
-    ``sin`` per block, against five complex phi-functions; along the samples of ``t_eval`` the
-    previous sample's times one rotation, :data:`CHAIN_LENGTH`), otherwise through the
-    phi-functions (:func:`_cubic_solution`); the two agree to rounding.
+    The step's solution with its load replaced by the polynomial ``R_Q`` of degree
+    ``fst[F_DEGREE]``, integrated exactly: for an underdamped block with ``h omega >=``
+    :data:`DENSE_H_OMEGA` through the particular solution of :func:`_particular`
+    (``exp(lambda tau)``: a real ``exp``, ``cos`` and ``sin`` per block; along the samples of
+    ``t_eval`` the previous sample's times one rotation, :data:`CHAIN_LENGTH`), below it through
+    the Taylor series of :func:`_taylor`, for a block near or above critical damping through the
+    phi-functions; the three agree to rounding.
     """
     h = fst[F_HSTEP]
     theta = (t - fst[F_TOLD]) / h
