@@ -10,6 +10,7 @@
 """
 
 import importlib
+import math
 
 import numpy as np
 
@@ -36,21 +37,36 @@ def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
     np.testing.assert_allclose(seg.y[:, 0], free_exact(seg.t, w, zeta, 1e-3, 0.0), rtol=0, atol=1e-15)
 
 
-def test_the_fit_reproduces_a_polynomial_of_its_degree_on_uneven_nodes():
-    """Predictor and corrector layouts: the rows at the first two nodes, then the history rows."""
+def test_the_shared_fit_reproduces_a_polynomial_of_its_degree_on_uneven_nodes():
+    """Loads on a quintic at uneven nodes: the predictor's and the corrector's polynomials (the shared
+    quartic plus each one's multiple of the node polynomial) are that quintic, and so is the dense
+    output's load ``R_Q``; ``R_MPI`` is ``h sum_k k! pi_k phi_(k+1)`` of the tables."""
     rng = np.random.default_rng(3)
     D = A.DEGREE
-    coefficients = rng.normal(size=(D + 1, 6))
+    N = 3
+    coefficients = rng.normal(size=(D + 1, 2 * N))
     nodes = np.array([0.0, -0.7, -1.9, -2.4, -3.1, -4.6, -5.0])[:D + 1]
-    for r0, r1, h0, nodes_used in ((A.E.R_G, A.R_HIST, 1, nodes), (A.R_YPRED, A.E.R_G, 0, np.r_[1.0, nodes[:-1]])):
-        W = np.zeros((A.ROWS_END, 6))
-        fst = np.zeros(A.FLOATS)
-        rows = [r0, r1] + [A.R_HIST + h0 + i for i in range(D - 1)]
-        for row, s in zip(rows, nodes_used):
-            W[row] = sum(coefficients[k] * s**k for k in range(D + 1))
-        fst[A.F_NODES:A.F_NODES + D + 1] = nodes_used
-        A._fit(W, fst, r0, r1, h0)
-        np.testing.assert_allclose(W[A.E.R_Q:A.E.R_Q + D + 1], coefficients, rtol=1e-10, atol=1e-10)
+    W = np.zeros((A.ROWS_END, 2 * N))
+    fst = np.zeros(A.FLOATS)
+    W[A.E.R_LIN] = np.r_[[40.0, 300.0, 2000.0], [0.0, 0.02, 0.3]]
+    h = 2e-3
+    A.E._tables(W, h, 1.0, A.R_ATABLE, A.ORDER + 1)
+    value = lambda s: sum(coefficients[k] * s**k for k in range(D + 1))
+    W[A.E.R_G] = value(0.0)
+    for i in range(D):
+        W[A.R_HIST + i] = value(nodes[i + 1])
+    fst[A.F_NODES:A.F_NODES + D + 1] = nodes
+    A._shared(W, fst, h)
+    np.testing.assert_allclose(W[A.R_AP], coefficients[D], rtol=1e-9)
+    W[A.E.R_GNEW] = value(1.0)
+    A._corrector_coefficient(W, fst)
+    np.testing.assert_allclose(W[A.R_AC], coefficients[D], rtol=1e-9)
+    A._corrector_polynomial(W, fst)
+    np.testing.assert_allclose(W[A.E.R_Q:A.E.R_Q + D + 1], coefficients, rtol=1e-10, atol=1e-10)
+    pi = np.poly1d(np.poly(nodes[:D]))  # prod (s - x_k), highest power first
+    weights = [h * math.factorial(k) * pi.coeffs[::-1][k] for k in range(D + 1)]
+    T = A.R_ATABLE
+    np.testing.assert_allclose(W[A.R_MPI], sum(w * W[T + k + 1] for k, w in enumerate(weights)), rtol=1e-12)
 
 
 def test_order_six_with_fixed_steps():
