@@ -98,8 +98,8 @@ FIELDS = {
     "contact.stiffness": ("N m-n", "K", "stiffness of the compliant law (n = exponent)"),
     "contact.exponent": ("1", "n", "exponent of the compliant law (1.5: Hertz)"),
     "model.equations": ("", "", "corrected (lubelink's) or a printed form of the paper"),
-    "solver.method": ("", "", "auto: exponential-adams without a film on the planar link, else DOP853 for 1 mode "
-                              "and exponential for more"),
+    "solver.method": ("", "", "auto: exponential-adams on the planar link without a film or without a contact law, "
+                              "else DOP853 for 1 mode and exponential for more"),
     "solver.rtol": ("1", "", "relative tolerance on q, q_dot"),
     "solver.atol": ("m", "", "absolute tolerance on q [m] and q_dot [m/s]"),
     "solver.t_end": ("s", "", "end of the simulated interval, which starts at 0"),
@@ -366,8 +366,8 @@ class Solver:
     Attributes
     ----------
     method : str
-        ``"auto"`` (``"exponential-adams"`` on a planar link without a film; otherwise
-        ``"DOP853"`` for one mode and ``"exponential"`` for more: the faster one at the default
+        ``"auto"`` (``"exponential-adams"`` on a planar link without a film or without a contact
+        law; otherwise ``"DOP853"`` for one mode and ``"exponential"`` for more: the faster one at the default
         tolerance, see benchmarks/README.md), ``"exponential"`` (exponential Runge-Kutta,
         exact on the modal oscillators), ``"exponential-adams"`` (exponential Adams
         predictor-corrector, the same exactness in two evaluations a step, a smaller stability
