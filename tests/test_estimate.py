@@ -19,7 +19,7 @@ def cost(**overrides):
 
 
 def test_the_two_runs_that_never_finished_are_flagged_up_front():
-    tiny_step = cost(**{"solver.max_step": 1e-9, "solver.t_end": 0.2})
+    tiny_step = cost(**{"solver.max_step": 1e-9, "solver.t_end": 0.2, "solver.method": "DOP853"})  # (as measured)
     assert tiny_step.steps == pytest.approx(2e8)
     assert "solver.max_step = 1e-09 s over solver.t_end = 0.2 s" in tiny_step.reason
     assert 10 * 60 < tiny_step.seconds < 4 * 3600  # measured: about 36 min on the reference machine

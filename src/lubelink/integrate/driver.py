@@ -373,7 +373,8 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
         if code == RUNNING:
             taken = max(int(ist[S_NSTEPS] - steps), 1)
             elapsed = max(time.perf_counter() - began, 1e-6)
-            ist[S_MAXSTEPS] = int(min(max(taken * CALL_SECONDS / elapsed, 16), 1_000_000))
+            seconds = CALL_SECONDS if deadline is None else min(CALL_SECONDS, deadline - time.perf_counter())
+            ist[S_MAXSTEPS] = int(min(max(taken * seconds / elapsed, 16), 1_000_000))  # (a deadline: it returns there)
             if deadline is not None and time.perf_counter() > deadline:
                 status, message = "timeout", f"the wall-time budget ran out at t = {fst[F_T]:.9g} s"
                 fst[F_TFINAL] = fst[F_T]

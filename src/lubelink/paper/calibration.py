@@ -67,12 +67,14 @@ def first_impact_time(config, t_stop=None, motion=None):
     """
     from dataclasses import replace
 
-    from ..simulate import run
+    from ..simulate import method_name, run
 
     t_stop = config.solver.t_end if t_stop is None else float(t_stop)
-    # no contact law: the run stops at the first breakdown; one output sample is enough
+    # no contact law: the run stops at the first breakdown; one output sample is enough; the method
+    # is the one the run with its contact law takes (without one "auto" could pick another, whose
+    # breakdown time differs within the tolerances)
     config = replace(config, contact=replace(config.contact, law="none"),
-                     solver=replace(config.solver, t_end=t_stop, output_step=t_stop))
+                     solver=replace(config.solver, t_end=t_stop, output_step=t_stop, method=method_name(config)))
     result = run(config, motion)
     if result.status == "film_breakdown":
         return float(result.event_time)
