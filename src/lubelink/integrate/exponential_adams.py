@@ -8,7 +8,7 @@ exactly with it::
 
     y_(n+1) = phi_0(hA) y_n + h sum_k k! phi_(k+1)(hA) Q_k
 
-(:func:`_solution`). The step is a PECE pair of order six on variable steps:
+(:func:`_shared`). The step is a PECE pair of order six on variable steps:
 
 * predict with the quintic through the loads at ``t_n`` and the five steps before (extrapolated);
 * evaluate the load there, correct with the quintic through ``t_(n+1)``, ``t_n`` and four steps before;
@@ -178,16 +178,12 @@ def _corrector_polynomial(W, fst):
 
 @jitable
 def _plus_m_pi(W, r_base, r_a, scale, r_out):
-    """``W[r_out] = W[r_base] + scale M_pi W[r_a]``, block by block (``M_pi = a I + b A``, row ``R_MPI``)."""
+    """``W[r_out] = W[r_base] + scale M_pi W[r_a]``, block by block (``M_pi`` the table row ``R_MPI``)."""
     N = W.shape[1] // 2
     for i in range(N):
-        om = W[E.R_LIN, i]
-        x = W[r_a, i]
-        v = W[r_a, N + i]
-        a = W[R_MPI, i]
-        b = W[R_MPI, N + i]
-        W[r_out, i] = W[r_base, i] + scale * (a * x + b * v)
-        W[r_out, N + i] = W[r_base, N + i] + scale * (a * v + b * (-om * om * x - 2.0 * W[E.R_LIN, N + i] * om * v))
+        W[r_out, i] = W[r_base, i]
+        W[r_out, N + i] = W[r_base, N + i]
+        E._apply_block(W, R_MPI, r_a, r_out, scale, i)
 
 
 @jitable
@@ -239,7 +235,8 @@ def step(rhs, p, W, fst, ist):
         for m in range(n):
             W[E.R_ERR, m] = 0.0
             W[R_SP, m] = W[R_AC, m] - W[R_AP, m]
-        _plus_m_pi(W, E.R_ERR, R_SP, MILNE, E.R_ERR)  # Milne's estimate: MILNE (y_corrector - y_predictor)
+        for i in range(n // 2):  # Milne's estimate: MILNE (y_corrector - y_predictor) = MILNE M_pi (a_c - a_p)
+            E._apply_block(W, R_MPI, R_SP, E.R_ERR, MILNE, i)
         err = scaled_rms(W[E.R_ERR], W[R_Y], W[E.R_YNEW], W)
         if not np.isfinite(err):
             ist[S_FAIL] = FAIL_RHS

@@ -8,8 +8,9 @@ quintic), integrated exactly: of the step's order. At a sample the dense output 
 phi-functions (2.6x cheaper a sample); along the samples of ``t_eval``, ``exp(lambda tau)``
 follows from the previous sample's by one rotation (:data:`CHAIN_LENGTH`). Where ``h omega`` is
 small (``P`` would cancel) it sums the Taylor series of the step's solution (:func:`_taylor`);
-where the block is not underdamped it falls back to the phi-functions
-(:func:`.exponential._cubic_solution`'s formula). The three agree to rounding.
+where the block is not underdamped it falls back to the variation-of-constants sum over the
+phi-functions (:func:`.exponential._cubic_solution`'s formula, to the load's degree). The three
+agree to rounding.
 
 This is the methods' ``dense`` (:class:`lubelink.integrate.Method`); the rows and floats it uses
 are laid out in :mod:`.exponential`.
