@@ -149,6 +149,20 @@ def test_domain_exit_finds_the_first_state_outside_by_brute_force():
     assert domain_exit(model, np.zeros((50, 8))) is None
 
 
+def test_an_initial_state_outside_the_domain_stops_at_t0():
+    """A given ``y0`` is checked before any step (the default rest state needs no check): a
+    deflection of 10 % of the link against ``solver.max_deflection = 0.05`` ends the run at t = 0."""
+    import importlib
+
+    run = importlib.import_module("lubelink.simulate").run
+    config = resolve("paper-dry", {"solver.t_end": 0.01})
+    out = run(config, y0=[0.1 * config.mechanism.rod_length, 0.0])
+    assert out.status == "out_of_domain" and out.message.startswith("at t = 0 s: max |u2|/L = 0.09")  # (on a grid)
+    assert "exceeds solver.max_deflection = 0.05" in out.message
+    assert out.t.tolist() == [0.0]
+    assert run(config, y0=[0.01 * config.mechanism.rod_length, 0.0]).status == "complete"
+
+
 def test_film_breakdown_without_contact_law_is_reported():
     r = run(resolve("paper", {"film.model": "none", "film.clearance": 5e-3, "contact.law": "none",
                               "solver.t_end": 0.5}))

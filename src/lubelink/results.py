@@ -209,7 +209,10 @@ def dataset(results: Results):
 
             variables, indexes = {}, {}
             for name, (dims, data, attrs) in results.coords.items():
-                indexes[name] = PandasIndex(pd.Index(data, copy=False), name)  # (from a NumPy array: 1.5x the time)
+                # the pandas.Index named already and its dtype given (fastpath): the index neither
+                # re-cast nor copied to name it (4 coordinates 0.36 -> 0.23 ms); from a NumPy array 1.5x
+                index = pd.Index(data, copy=False, name=name)
+                indexes[name] = PandasIndex(index, name, coord_dtype=index.dtype, fastpath=True)
                 variables[name] = indexes[name].create_variables()[name]  # on the index's own pandas.Index
                 variables[name].attrs = attrs
             for name, (dims, data, attrs) in results.data_vars.items():

@@ -76,11 +76,9 @@ def domain_exit(model, y):
     """
     from .beam import linear_domain
 
-    if not y.any():  # the rest state (every run's start), or no state: inside (the limits are positive)
-        return None
     s = model.config.solver
     limits = np.array([getattr(s, key) for _, key in DOMAIN])
-    if not np.any(np.isfinite(limits)):
+    if y.shape[0] == 0 or not np.isfinite(limits).any():
         return None
     q = model.planar_state(y)[:, :model.modes]
     L = model.config.mechanism.rod_length
@@ -231,7 +229,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     out = Run(model=model, t=None, y=None, method=out_method)
     logic = ContactLogic(model)
     phase = None
-    exited = domain_exit(model, y[None, :])
+    exited = None if y0 is None else domain_exit(model, y[None, :])  # (the rest state is inside)
     if exited is not None:
         out.status, out.message, out.event_time = "out_of_domain", f"at t = 0 s: {exited[1]}", 0.0
     y = model.to_state(y)
