@@ -29,8 +29,12 @@ medians of the repeats, and the import; lubelink: ``simulate()`` end to end, war
 warm-up call, and its integration alone, ``lubelink.simulate.run``, Exudyn's ``SolveDynamic``'s
 counterpart), the ratio of Exudyn's solve alone to lubelink's end to end (and to its integration
 alone), the largest difference
-of ``u2_mid`` over 0-2 s in µm and in per cent of Exudyn's peak ``|u2_mid|``, and the convergence
-of the Exudyn model (h = 5e-5 s and 16 elements against the 8-element, h = 1e-4 s run).
+of ``u2_mid`` over 0-2 s in µm and in per cent of Exudyn's peak ``|u2_mid|``, the convergence
+of the Exudyn model (h = 5e-5 s and 16 elements against the 8-element, h = 1e-4 s run), lubelink at
+the ``--tolerances`` with its integration error, and the ratio *at matched accuracy*: the fastest
+lubelink run whose integration error is no larger than the Exudyn model's own distance from its
+converged solution (the largest change under refinement in the convergence runs; with ``--quick`` the
+issue's 3 µm).
 
 Of the ways tried to drive pin O, the symbolic offsets were the fastest: the same offsets as
 Python functions took 1.5-1.6x as long, a rigid crank body (a ``NodeRigidBody2D`` held at the
@@ -70,6 +74,10 @@ T_END, SAMPLE = 2.0, 1e-3  # [s]
 BASE = (8, 1e-4)  # elements, step: the model the issue prescribes
 CONVERGENCE = [(8, 5e-5), (16, 1e-4), (16, 5e-5)]
 TARGET_RATIO, TARGET_DIFF = 400.0, 3.0  # [-], [% of peak |u2_mid|]
+#: The Exudyn model's distance from its converged solution [m] as the issue states it ("within 3 µm");
+#: without ``--quick`` the convergence runs estimate it: the largest change of ``u2_mid`` when the step,
+#: the mesh or both are refined (2.4-2.8 µm; refining both, the two errors partly cancel: 0.3 µm).
+EXUDYN_ERROR = 3e-6
 
 
 # --------------------------------------------------------------------------- Exudyn (side interpreter)
@@ -264,11 +272,22 @@ def main():
     rel = 100.0 * diff / peak
     print(f"max |u2_mid difference| over 0-{T_END:g} s: {1e6 * diff:.1f} µm = {rel:.2f} % of Exudyn's peak  "
           f"(target <= {TARGET_DIFF:g} %: {'met' if rel <= TARGET_DIFF else 'not met'})")
-    # lubelink at a tolerance whose own integration error stays far below the Exudyn model's
-    # discretisation error (2-3 µm, below): the speed at matched accuracy
     tight_t, tight, _, _ = run_lubelink(1, 1e-11, "DOP853")
     err = np.abs(u2 - np.interp(t, tight_t, tight)).max()
     print(f"lubelink's integration error at its defaults (against DOP853 at rtol 1e-11): {1e6 * err:.4f} µm")
+    own = EXUDYN_ERROR  # the Exudyn model's distance from its converged solution (measured below unless --quick)
+    if not args.quick:
+        print(f"Exudyn convergence: max |u2_mid difference| against {BASE[0]} elements, h = {BASE[1]:g} s")
+        changes = []
+        for elements, step in CONVERGENCE:
+            run = run_exudyn(args.exudyn_python, elements, step, 1)
+            u = np.interp(t, run["t"], run["u2_mid"])
+            changes.append(np.abs(u - u2_exu).max())
+            print(f"  {elements:2d} elements, h = {step:g} s (solve {run['solve'][0]:.2f} s): "
+                  f"{1e6 * changes[-1]:.2f} µm; lubelink against it: {1e6 * np.abs(u2 - u).max():.1f} µm")
+        # the largest change under refinement (refining both h and the mesh, their errors partly cancel)
+        own = max(changes)
+    matched = [(ratio, None, err)] if err <= own and rel <= TARGET_DIFF else []
     for tol in args.tolerances:
         tt, uu, ww, _ = run_lubelink(args.repeats, tol)
         e = np.abs(uu - np.interp(tt, tight_t, tight)).max()
@@ -277,14 +296,16 @@ def main():
         rs = statistics.median(ref["solve"]) / statistics.median(solve_lubelink(args.repeats, tol))
         print(f"lubelink at rtol {tol:g}, atol {tol / 10:g} m: {spread(ww, 'ms', 1e3, 1)}; integration error "
               f"{1e6 * e:.3f} µm; against Exudyn {d:.2f} %; ratio {r:.0f}x (solve against solve {rs:.0f}x)")
-    if args.quick:
-        return
-    print(f"Exudyn convergence: max |u2_mid difference| against {BASE[0]} elements, h = {BASE[1]:g} s")
-    for elements, step in CONVERGENCE:
-        run = run_exudyn(args.exudyn_python, elements, step, 1)
-        u = np.interp(t, run["t"], run["u2_mid"])
-        print(f"  {elements:2d} elements, h = {step:g} s (solve {run['solve'][0]:.2f} s): "
-              f"{1e6 * np.abs(u - u2_exu).max():.2f} µm; lubelink against it: {1e6 * np.abs(u2 - u).max():.1f} µm")
+        if e <= own and d <= TARGET_DIFF:
+            matched.append((r, tol, e))
+    # the like-for-like reading: lubelink no less accurate than the Exudyn model it is compared with
+    if matched:
+        r, tol, e = max(matched, key=lambda m: m[0])
+        source = " (the issue's figure; measured without --quick)" if args.quick else ""
+        print(f"at matched accuracy (lubelink's integration error {1e6 * e:.2f} µm <= the Exudyn model's own "
+              f"{1e6 * own:.1f} µm{source}): "
+              f"{r:.0f}x at {'the defaults' if tol is None else f'rtol {tol:g}'}  (target >= {TARGET_RATIO:.0f}x: "
+              f"{'met' if r >= TARGET_RATIO else 'not met'})")
 
 
 if __name__ == "__main__":
