@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._jit import jitable
+from ._jit import jitable, stack_empty
 from .beam import add_deflection
 from .params import CHOICES
 
@@ -45,6 +45,12 @@ __all__ = [
 ]
 
 NO_LAW, RESTITUTION, COMPLIANT = (CHOICES["contact.law"].index(v) for v in ("none", "restitution", "compliant"))
+
+#: Entries of the thinnest-film search's scratch (``2 N + K``: ``sin``, ``cos`` of ``beta_n x0`` and the
+#: ``K = 16 + 4 N`` samples) kept on the stack (:func:`lubelink._jit.stack_empty`): up to 40 modes; more
+#: allocate. The search runs at every step (the gap event) and at every sample (``film_min``), where
+#: three heap arrays cost about a fifth of it.
+STACK_SCRATCH = 256
 
 
 @jitable
@@ -83,12 +89,15 @@ def thinnest_film_side(side, q, x0, pad_length, clearance, rod_length, trig):
     """
     N = q.shape[0]
     K = trig.shape[2]
-    s0 = np.empty(N)
-    c0 = np.empty(N)
+    need = 2 * N + K
+    ws = stack_empty(STACK_SCRATCH) if need <= STACK_SCRATCH else np.empty(need)
+    s0 = ws[:N]
+    c0 = ws[N:2 * N]
+    u = ws[2 * N:need]
     for n in range(N):
         s0[n] = np.sin((n + 1) * np.pi / rod_length * x0)
         c0[n] = np.cos((n + 1) * np.pi / rod_length * x0)
-    u = np.zeros(K)
+    u[:] = 0.0
     add_deflection(q, s0, c0, trig[0], trig[1], side, u)
     i = np.argmax(u)
     step = pad_length / (K - 1)
