@@ -70,6 +70,19 @@ def test_compiled_kernels_equal_their_python_source(case, modes):
             np.testing.assert_allclose(g_c, g_p, rtol=1e-10, atol=1e-15)
 
 
+@pytest.mark.parametrize("modes", [40, 41])
+def test_the_thinnest_film_search_on_the_stack_and_on_the_heap(modes):
+    """The gap with the search's scratch on the stack (40 modes: 2 N + 16 + 4 N = 256 entries, the
+    most ``contact.STACK_SCRATCH`` holds) and on the heap (41 modes) equals its Python source."""
+    from lubelink import contact
+
+    assert (6 * modes + 16 <= contact.STACK_SCRATCH) == (modes == 40)
+    model = build_model(resolve("paper", {"beam.modes": modes, "solver.backend": "numba"}))
+    p = model.params
+    for t, y in random_states(model, 10, np.random.default_rng(11)):
+        np.testing.assert_allclose(gap(t, y, p), gap.py_func(t, y, p), rtol=1e-10, atol=1e-15)
+
+
 # --------------------------------------------------------------------------------------------------
 # whole runs on both backends
 def both(scenario, overrides):
