@@ -23,9 +23,10 @@ paid once per cluster, not per point. Reported per run:
 * client CPU per point: CPU time of this process (client and scheduler threads) per point,
   including fixed costs (validating every point, creating and reading the store).
 
-The wall time per point on 2 workers is compared with two single runs measured in the same run:
-``simulate("paper")`` (the issue's target, <= 0.75x), and ``simulate()`` of the sweep's own points one
-after another (their mean), what a user would run without a sweep. The second is the like-for-like
+The wall time per point on 2 workers is compared with two single runs measured in the same run, in
+one loop before the sweeps and again after them (their mean): ``simulate("paper")`` (the issue's
+target, <= 0.75x), and ``simulate()`` of the sweep's own points (their mean), what a user would run
+without a sweep. The second is the like-for-like
 figure: the sweep's points are not ``paper``; their cost grows with the crank speed (485 steps at
 25 rad/s, 847 at ``paper``'s 31.4, 2637 at 40), so on average a point costs 1.2-1.4x ``paper``.
 
@@ -70,34 +71,30 @@ def warm_up():
     return os.getpid()
 
 
-def single_simulate(repeats=21):
-    """Median wall time of one ``lubelink.simulate("paper")`` (Dataset included), the user's single run."""
+def single_runs(sp):
+    """``(paper, points)``: the median wall time of ``lubelink.simulate("paper")`` and the mean of
+    ``lubelink.simulate(config)`` over the sweep's points (Dataset included: the user's single runs,
+    the alternative to a sweep), timed in one loop, a ``paper`` run before each point, so that both
+    see the same machine (its speed drifts by tens of per cent within minutes)."""
     import statistics
 
-    import lubelink
-
-    lubelink.simulate("paper")
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        lubelink.simulate("paper")
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
-
-
-def simulate_points(sp):
-    """Mean wall time of ``lubelink.simulate(config)`` (Dataset included) over the sweep's points, one
-    after another in this process: the user's alternative to the sweep."""
     import lubelink
 
     configs, invalid = sp.point_configs()
     assert not invalid
     for config in list(configs.values())[:5]:
+        lubelink.simulate("paper")
         lubelink.simulate(config)
-    t0 = time.perf_counter()
+    paper, points = [], []
     for config in configs.values():
+        t0 = time.perf_counter()
+        lubelink.simulate("paper")
+        t1 = time.perf_counter()
         lubelink.simulate(config)
-    return (time.perf_counter() - t0) / len(configs)
+        t2 = time.perf_counter()
+        paper.append(t1 - t0)
+        points.append(t2 - t1)
+    return statistics.median(paper), statistics.fmean(points)
 
 
 def serial(sp):
@@ -172,11 +169,9 @@ def main(argv=None):
 
     t_serial, t_sim = serial(sp)
     n = sp.size
-    t_one = single_simulate()
-    print(f"one lubelink.simulate('paper'): {1e3 * t_one:.2f} ms (median of 21)", flush=True)
-    t_points = simulate_points(sp)
-    print(f"lubelink.simulate() of each of the sweep's points in turn: {1e3 * t_points:.2f} ms per point (mean)",
-          flush=True)
+    before = single_runs(sp)
+    print(f"single runs before the sweeps: simulate('paper') {1e3 * before[0]:.2f} ms (median), simulate() of "
+          f"the sweep's points {1e3 * before[1]:.2f} ms (mean), in one loop", flush=True)
     print(f"serial baseline: {t_serial:.1f} s ({1e3 * t_serial / n:.1f} ms per point, of which "
           f"{1e3 * t_sim / n:.1f} ms in the simulation itself), load average {os.getloadavg()[0]:.2f}",
           flush=True)
@@ -187,6 +182,11 @@ def main(argv=None):
             rows.append(("run_sweep, LocalCluster", str(w), wall, n / wall, t_serial / wall,
                          1e3 * (wall * w - t_serial) / n, 100 * utilisation, 1e3 * gap, 1e3 * cpu / n, failed))
             print(f"{w} worker(s): {wall:.1f} s, load average {os.getloadavg()[0]:.2f}", flush=True)
+
+    after = single_runs(sp)
+    print(f"single runs after the sweeps: simulate('paper') {1e3 * after[0]:.2f} ms (median), simulate() of "
+          f"the sweep's points {1e3 * after[1]:.2f} ms (mean)", flush=True)
+    t_one, t_points = 0.5 * (before[0] + after[0]), 0.5 * (before[1] + after[1])
 
     # failed: an error or a lost worker; a film breakdown or chatter is a result of the physics
     head = ("mode", "workers", "wall [s]", "points/s", "speed-up", "overhead/point [ms]",
@@ -209,7 +209,7 @@ def main(argv=None):
     for r in rows[1:]:
         print(f"{r[1]} worker(s): wall time per point {1e3 * r[2] / n:.2f} ms = "
               f"{r[2] / n / t_one:.2f}x one simulate('paper') (target <= 0.75x on 2 workers), "
-              f"{r[2] / n / t_points:.2f}x simulate() of the same points")
+              f"{r[2] / n / t_points:.2f}x simulate() of the same points (single runs: the mean of before and after)")
     print(f"load average at end {os.getloadavg()[0]:.2f}")
     return 0
 

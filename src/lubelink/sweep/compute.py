@@ -145,10 +145,17 @@ def _compute_point(flat, config, opts, trace=None):
     return record, series
 
 
-def _compute_points(flats, configs, opts, trace=None):
-    """Worker task: several points in a row, ``([(flat, record, series), ...], seconds)``."""
+def _compute_points(flats, overrides, base, opts, trace=None):
+    """Worker task: several points in a row, ``([(flat, record, series), ...], seconds)``.
+
+    A point comes as its overrides of the sweep's ``base`` configuration (validated by the client),
+    not as a configuration: a task then carries one configuration, not one a point, which the
+    client pickles, the scheduler unpickles and pickles again and the worker unpickles.
+    """
+    from .spec import config_with
+
     t0 = time.perf_counter()
-    out = [(flat, *_compute_point(flat, config, opts, trace)) for flat, config in zip(flats, configs)]
+    out = [(flat, *_compute_point(flat, config_with(base, o), opts, trace)) for flat, o in zip(flats, overrides)]
     return out, time.perf_counter() - t0
 
 

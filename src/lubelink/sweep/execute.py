@@ -33,11 +33,17 @@ log = logging.getLogger(__name__)
 
 #: Dask settings of the local cluster that :func:`run_sweep` starts: Dask's diagnostics sampling
 #: (event-loop tick every 20 ms, system monitor, worker profiler) costs about a tenth of a core per
-#: process on a small machine, taken from the simulations; a sweep does without it.
+#: process on a small machine, taken from the simulations; a sweep does without it. Dask's nanny
+#: also starts its workers with ``MALLOC_TRIM_THRESHOLD_=65536`` (freed memory back to the system at
+#: once), which turns glibc's adaptive thresholds off: every array above 128 KiB is then mapped afresh
+#: and a ``paper`` point took 5-10 % longer in a worker than in a process of its own (2 % without it).
+#: A point's arrays are a few megabytes, freed when it ends; the sweep keeps glibc's defaults (None
+#: unsets the variable, Dask's documented way; one set in the environment still wins).
 LOCAL_CLUSTER_CONFIG = {
     "distributed.admin.tick.interval": "500ms",
     "distributed.admin.system-monitor.interval": "2s",
     "distributed.worker.profile.enabled": False,
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
 }
 
 
@@ -340,7 +346,9 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
         n = 1
         if per_point is not None and task_seconds > 0:
             n = int(task_seconds / max(per_point, 1e-6))
-            n = min(n, 256, len(queue) // (2 * nthreads))  # keep every worker busy to the end
+            # keep every worker busy to the end, with tasks of at least a tenth of task_seconds: each
+            # task costs the scheduler and the client several milliseconds
+            n = min(n, 256, max(len(queue) // (2 * nthreads), n // 10))
         return [queue.popleft() for _ in range(min(max(1, n), len(queue)))]
 
     def submit(n_tasks):
@@ -350,8 +358,8 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
             tasks.append(batch())
         if not tasks:
             return
-        futures = client.map(_compute_points, tasks, [[sp.point_config(f) for f in t] for t in tasks], opts=opts,
-                             trace=trace, pure=False,
+        futures = client.map(_compute_points, tasks, [[sp.overrides(f) for f in t] for t in tasks],
+                             base=sp.base_config, opts=opts, trace=trace, pure=False,
                              key=[f"lubelink-sweep-{sp.hash[:8]}-{token}-{t[0]}-{len(t)}" for t in tasks])
         for task, fut in zip(tasks, futures):
             active[fut] = task
@@ -364,7 +372,7 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
     bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
     lost = 0
     try:
-        submit(window)
+        submit(nthreads + 1)  # one point a task until a point's duration is known, then the window in batches
         for fut, result in ac:
             task = active.pop(fut)
             if fut.status == "finished":

@@ -31,6 +31,16 @@ STRING_BYTES = 80
 MEMORY_BASE = 300e6
 
 
+def config_with(base, overrides):
+    """``base`` (a :class:`~lubelink.params.Config`) with ``{"section.key": value}`` ``overrides``, not
+    validated: a point of a sweep, built where it is computed from its overrides and the base."""
+    by_section = {}
+    for name, value in overrides.items():
+        section, key = name.split(".", 1)
+        by_section.setdefault(section, {})[key] = value
+    return replace(base, **{s: replace(getattr(base, s), **kv) for s, kv in by_section.items()})
+
+
 @dataclass(frozen=True)
 class SweepEstimate:
     """Up-front estimate of a sweep: points, client memory [B], store size [B], time [s]."""
@@ -159,12 +169,7 @@ class Sweep:
     def point_config(self, flat: int):
         """The :class:`~lubelink.params.Config` of point ``flat`` (not validated: see
         :meth:`invalid_points_of`), built when needed, so that a large sweep holds no configurations."""
-        by_section = {}
-        for name, value in self.overrides(flat).items():
-            section, key = name.split(".", 1)
-            by_section.setdefault(section, {})[key] = value
-        return replace(self.base_config, **{s: replace(getattr(self.base_config, s), **kv)
-                                            for s, kv in by_section.items()})
+        return config_with(self.base_config, self.overrides(flat))
 
     def invalid_points_of(self, progress=None, flats=None) -> dict:
         """Validate the points (all, or ``flats``) one by one: ``{flat: problems}`` of the invalid ones.
