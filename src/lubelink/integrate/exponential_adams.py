@@ -123,17 +123,15 @@ def _shared(W, fst, h):
         for i in range(k, D - 1):
             for m in range(n):
                 W[Q + i, m] -= x * W[Q + i + 1, m]
-    for k in range(D + 1):  # pi's monomial coefficients, and pi at the predictor's last node
+    for k in range(D + 1):  # pi's monomial coefficients
         fst[F_PI + k] = 0.0
     fst[F_PI] = 1.0
-    pi_p = 1.0
     for k in range(D):
         x = fst[F_NODES + k]
-        pi_p *= xp - x
         for i in range(k + 1, 0, -1):
             fst[F_PI + i] = fst[F_PI + i - 1] - x * fst[F_PI + i]
         fst[F_PI] = -x * fst[F_PI]
-    inv = 1.0 / pi_p
+    inv = 1.0 / _pi(fst, xp)
     for m in range(n):
         W[R_AP, m] = (W[R_HIST + D - 1, m] - W[R_SP, m]) * inv
     T = R_ATABLE
@@ -154,12 +152,18 @@ def _shared(W, fst, h):
 
 
 @jitable
+def _pi(fst, x):
+    """The node polynomial ``pi(x) = prod_(k < DEGREE) (x - x_k)`` at ``x``, by its factors."""
+    value = 1.0
+    for k in range(DEGREE):
+        value *= x - fst[F_NODES + k]
+    return value
+
+
+@jitable
 def _corrector_coefficient(W, fst):
     """``R_AC``: the corrector's ``a = (G(1) - S(1)) / pi(1)``, ``G(1)`` the predicted load in ``R_GNEW``."""
-    pi_c = 1.0
-    for k in range(DEGREE):
-        pi_c *= 1.0 - fst[F_NODES + k]
-    inv = 1.0 / pi_c
+    inv = 1.0 / _pi(fst, 1.0)
     for m in range(W.shape[1]):
         W[R_AC, m] = (W[E.R_GNEW, m] - W[R_SC, m]) * inv
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .schema import DEFAULT_QUANTITIES, QUANTITIES
+from .spec import config_with
 
 __all__ = ["summarise"]
 
@@ -152,8 +153,6 @@ def _compute_points(flats, overrides, base, opts, trace=None):
     not as a configuration: a task then carries one configuration, not one a point, which the
     client pickles, the scheduler unpickles and pickles again and the worker unpickles.
     """
-    from .spec import config_with
-
     t0 = time.perf_counter()
     out = [(flat, *_compute_point(flat, config_with(base, o), opts, trace)) for flat, o in zip(flats, overrides)]
     return out, time.perf_counter() - t0
