@@ -1,6 +1,6 @@
 """Draw the figures of docs/periodic.md: response curves over the crank speed, and a period doubling.
 
-    python docs/response_curves.py [OUTDIR] [--keep]      # default docs/figures; about 1.5 min on 2 cores
+    python tools/figures/response_curves.py [OUTDIR] [--keep]      # default docs/figures; about 1.5 min on 2 cores
 
 Each curve is a branch of :func:`lubelink.continuation` (with ``--keep``, the branch files are
 written beside the figures as ``response-*.nc``); the crosses are the peak midpoint deflection over the last turn of

@@ -1,6 +1,6 @@
 """Draw the figures of docs/film2d.md and print its tables: the film of finite width.
 
-    PYTHONPATH=src python docs/film2d_figures.py [OUTDIR]      # default docs/figures; about a minute
+    PYTHONPATH=src python tools/figures/film2d_figures.py [OUTDIR]      # default docs/figures; about a minute
 
 * ``film2d-maps.png``: pressure maps (X by Z) of one film of the ``paper`` run for three widths,
   full solution and Swift-Stieber, by :func:`lubelink.film.pressure_2d`;
@@ -165,7 +165,7 @@ def fig9():
 
 
 def main(argv):
-    out = Path(argv[0]) if argv else Path(__file__).resolve().parent / "figures"
+    out = Path(argv[0]) if argv else Path(__file__).resolve().parents[2] / "docs" / "figures"
     out.mkdir(parents=True, exist_ok=True)
     ds = lubelink.simulate("paper", set={"film.model": "wedge+squeeze"})
     xi, xi_t, V_r, t, cfg = paper_film(ds)

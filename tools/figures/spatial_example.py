@@ -5,7 +5,7 @@ mechanism, dry, against the planar model), then the scenario (crank axis tilted 
 slider line, slider line 5 cm out of the plane, wedge film on the ``u2`` faces). Writes
 docs/figures/spatial-rssp.png and prints the figures quoted in docs/spatial.md.
 
-    PYTHONPATH=src python docs/spatial_example.py [--t-end 0.5]
+    PYTHONPATH=src python tools/figures/spatial_example.py [--t-end 0.5]
 """
 
 import argparse
@@ -21,7 +21,7 @@ TIGHT = {"solver.rtol": 1e-10, "solver.atol": 1e-14}
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--t-end", type=float, default=0.5)
-    ap.add_argument("-o", default=str(Path(__file__).parent / "figures" / "spatial-rssp.png"))
+    ap.add_argument("-o", default=str(Path(__file__).resolve().parents[2] / "docs" / "figures" / "spatial-rssp.png"))
     args = ap.parse_args()
     over = {"beam.modes": 3, "solver.t_end": args.t_end, **TIGHT}
     planar = lubelink.simulate("paper-dry", set=over)

@@ -1,6 +1,6 @@
 """Checks of the ``paper-impact`` scenario behind docs/paper.md (Fig. 9): robustness, tension, cavitation.
 
-    python docs/fig9_checks.py [OUTDIR]       # default docs/figures; about 5 min on a busy core
+    python tools/figures/fig9_checks.py [OUTDIR]       # default docs/figures; about 5 min on a busy core
 
 Writes ``fig9-checks.md`` (atomically) and prints it:
 

@@ -1,6 +1,6 @@
 """Figures of docs/breakdown.md: the paper's model against the `lubricated` scenario.
 
-    PYTHONPATH=src python docs/breakdown_figures.py [OUTDIR]        (default docs/figures)
+    PYTHONPATH=src python tools/figures/breakdown_figures.py [OUTDIR]        (default docs/figures)
 
 Writes ``breakdown-deflection.png`` (midpoint deflection of the dry link, the paper's wedge film
 and the `lubricated` scenario, with their peaks: Fig. 7's question) and ``breakdown-loads.png``
