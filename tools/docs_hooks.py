@@ -1,6 +1,8 @@
 """MkDocs hooks of the documentation site (mkdocs.yml): the home page and the gallery.
 
 * ``index.md`` is generated from README.md, its links into docs/ made relative to the site.
+* ``reliability.md``: the marker ``<!-- reliability-table: README.md -->`` becomes the README's
+  reliability table (kept in the README, where ``tests/test_reliability.py`` compares it).
 * ``gallery/``: every ``examples/*.py`` is run at build time, in a temporary folder, with this
   source tree first on ``PYTHONPATH``; its page shows the docstring, the source, what it printed
   and the images it wrote. An example that fails fails the build. ``examples/*.toml`` (sweep
@@ -49,6 +51,17 @@ def _site_link(match):
 def readme_as_index(text: str) -> str:
     """README.md with its links into docs/ relative to the site and other repository links named."""
     return _LINK.sub(_site_link, text)
+
+
+_TABLE_START, _TABLE_END = "<!-- reliability-table:start -->", "<!-- reliability-table:end -->"
+_TABLE_HERE = "<!-- reliability-table: README.md -->"
+
+
+def reliability_table(readme: str) -> str:
+    """The reliability table of README.md, between its markers."""
+    if _TABLE_START not in readme or _TABLE_END not in readme:
+        raise ValueError("README.md lacks the reliability table markers")
+    return readme.split(_TABLE_START, 1)[1].split(_TABLE_END, 1)[0].strip()
 
 
 # --- gallery -----------------------------------------------------------------------------------------
@@ -123,6 +136,13 @@ def on_files(files, config):
             files.append(File.generated(config, f"gallery/{name}", content=data))
     files.append(File.generated(config, "gallery/index.md", content=gallery_index(scripts, tomls)))
     return files
+
+
+def on_page_markdown(markdown, page, config, files):
+    """The README's reliability table where a page asks for it (docs/reliability.md)."""
+    if _TABLE_HERE in markdown:
+        markdown = markdown.replace(_TABLE_HERE, reliability_table((ROOT / "README.md").read_text(encoding="utf-8")))
+    return markdown
 
 
 _ROLE = re.compile(r":(?:py:)?(?:func|class|mod|meth|data|attr|exc|obj):(?=<code>)")

@@ -308,6 +308,10 @@ def _apply_overrides(config: Config, overrides: dict, problems: list) -> Config:
 def resolve(source="paper", overrides=None) -> Config:
     """A validated configuration from a scenario name, a TOML path, a dict or a Config.
 
+    A scenario name with overrides of plain values (``str``, ``bool``, ``int``, ``float``) is
+    resolved once per process and the same (frozen) configuration returned after that
+    (:func:`_named`): a study that runs a scenario many times does not validate it each time.
+
     Parameters
     ----------
     source : str, os.PathLike, dict or Config
@@ -317,9 +321,10 @@ def resolve(source="paper", overrides=None) -> Config:
         ``{"section.key": value}`` applied last (the configuration is validated once, with them
         applied: the faults of the source and of the overrides are reported together).
 
-    A scenario name with overrides of plain values (``str``, ``bool``, ``int``, ``float``) is
-    resolved once per process and the same (frozen) configuration returned after that
-    (:func:`_named`): a study that runs a scenario many times does not validate it each time.
+    Returns
+    -------
+    Config
+        The validated configuration.
     """
     if isinstance(source, str) and source in SCENARIOS:
         key = _plain_items(overrides)
