@@ -18,6 +18,7 @@ import numpy as np
 
 from . import _jit, beam, contact, film, section
 from .errors import BackendError
+from .film.jacobian import has_film_jacobian
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
 from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, event_with, gap, in_sustained, rhs,
                     rhs_with, sustained_force_many, sustained_given, thinnest_given)
@@ -200,6 +201,19 @@ class Model:
     def watched(self) -> bool:
         """Whether the film's gap is watched (a film, or a contact law): the event of :meth:`functions`."""
         return self.config.film.enabled or self.config.contact.law != "none"
+
+    def jacobian_missing(self, phase=None) -> str:
+        """Why the right-hand side cannot give its Jacobian in ``phase`` (:func:`~lubelink.model.rhs`); ``""`` if it can.
+
+        A stiff method then forms it by finite differences and the run says so.
+        """
+        if self.motion.table() is None and not self.compiled:
+            return "a motion given as Python functions on the numpy backend"
+        if not self.uniform:
+            return "a variable section (eigen-coordinates)"
+        if phase is not None and self.config.contact.law != "none":
+            return "a contact phase (the contact force's Jacobian is not written yet)"
+        return has_film_jacobian(self.config.film)
 
     def functions(self):
         """``(rhs, event)`` for the driver: kernels, or Python functions on the ``numpy`` backend."""

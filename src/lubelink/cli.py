@@ -159,8 +159,9 @@ def _summary(r, source, path, wall):
     if a.get("contact_warning"):
         rows.append(("warning", a["contact_warning"]))
     backend = a["backend"] + (f" ({a['backend_note']})" if a["backend_note"] else "")
-    rows.append(("solver", f"{a['solver_method']}, {a['nsteps']} steps, {a['nfev']} right-hand-side evaluations, "
-                           f"backend {backend}"))
+    note = f" ({a['solver_note']})" if a.get("solver_note") else ""
+    rows.append(("solver", f"{a['solver_method']}{note}, {a['nsteps']} steps, {a['nfev']} right-hand-side "
+                           f"evaluations, backend {backend}"))
     budget = _budget(r)
     rows.append(("wall time", f"{a['wall_time']:.3f} s integration, {wall:.3f} s in all"
                  + (f" (budget solver.max_wall_time = {budget:g} s)" if budget is not None else "")))

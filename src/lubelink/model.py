@@ -25,6 +25,7 @@ import numpy as np
 
 from . import beam, contact, film, section
 from .film import asperity
+from .film import jacobian as film_jacobian
 from ._jit import jitable, kernel
 from .errors import BackendError
 from .kinematics import MotionTable, collar_acceleration, motion_at
@@ -270,10 +271,56 @@ def event_with(t, kin, A_r, y, p):
     return gap_given(t, kin, y, p)
 
 
+@jitable
+def jacobian_given(t, kin, y, J, p):
+    """``J = d(dy/dt)/dy`` ``(2N, 2N)`` of :func:`rhs_given` for the rigid motion ``kin`` at ``t``.
+
+    The uniform planar link (no eigenbasis) outside a contact phase, with the film of
+    :func:`~lubelink.film.jacobian.has_film_jacobian`: ``dq/dt = q_dot`` gives the identity block;
+    the modal oscillators ``-(omega_n^2 - omega^2)`` and ``-2 zeta omega_n`` on the diagonals;
+    the film (:func:`~lubelink.film.jacobian.modal_film_jacobian`) and the asperity contact
+    (:func:`~lubelink.film.asperity.modal_asperity_jacobian`) divided by the modal mass. The joint
+    reaction, gravity and the rigid-motion load do not depend on the state.
+    """
+    omega, x_star, V_r = kin[1], kin[3], kin[4]
+    N = p.basis.modes
+    L = p.basis.rod_length
+    q = y[:N]
+    q_dot = y[N:]
+    J[:, :] = 0.0
+    Jq = J[N:, :N]
+    Jv = J[N:, N:]
+    if p.film.model != film.NO_FILM:
+        film_jacobian.modal_film_jacobian(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, Jq, Jv)
+        if p.model.equations == PRINTED_FILM_SIGN:
+            Jq *= -1.0
+            Jv *= -1.0
+    if p.film.roughness > 0.0 and p.rough is not None:
+        asperity.modal_asperity_jacobian(q, x_star, p.film, p.beam.width, p.pad, L, Jq)
+    Jq /= p.basis.modal_mass
+    Jv /= p.basis.modal_mass
+    stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
+    for n in range(N):
+        J[n, N + n] = 1.0
+        w = p.basis.omega_n[n]
+        Jq[n, n] -= w * w - omega * omega + (2.0 * omega * omega if stiffening else 0.0)
+        Jv[n, n] -= 2.0 * p.beam.damping_ratio * w
+
+
 @kernel
 def rhs(t, y, out, p):
-    """``dy/dt`` of the modal ODE into ``out`` (:func:`rhs_with`, with :func:`rhs_given` inlined)."""
+    """``dy/dt`` of the modal ODE into ``out`` (:func:`rhs_with`, with :func:`rhs_given` inlined).
+
+    An ``out`` of ``n + n^2`` entries (``n = y.size``) asks for the Jacobian as well: ``dy/dt`` in
+    its first ``n``, then :func:`jacobian_given` row by row (the stiff method's request, where
+    :meth:`~lubelink.assembly.Model.jacobian_missing` says it applies).
+    """
     kin = motion_at(t, p.motion)
+    n = y.shape[0]
+    if out.shape[0] > n:
+        rhs_called(t, kin, y, out[:n], p)
+        jacobian_given(t, kin, y, out[n:].reshape((n, n)), p)
+        return
     rhs_given(t, kin, y, out, p)
     if in_sustained(p.phase, p.contact.law):
         _sustained_term(p.phase, t, kin, np.nan, y, out, p)

@@ -40,7 +40,7 @@ CHOICES = {
     "beam.model": ("planar", "spatial"),
     "contact.law": ("none", "restitution", "compliant"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
-    "solver.method": ("auto", "exponential", "exponential-adams", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
+    "solver.method": ("auto", "exponential", "exponential-adams", "rodas", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
     "solver.backend": ("auto", "numba", "numpy"),
 }
 

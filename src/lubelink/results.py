@@ -352,6 +352,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         "complete": int(result.complete),
         "message": result.message,
         "solver_method": result.method or cfg.solver.method,
+        "solver_note": getattr(result, "method_note", ""),
         "backend": model.backend,
         "backend_note": model.backend_note,
         "nfev": result.nfev,

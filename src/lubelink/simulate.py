@@ -18,6 +18,7 @@ from .contact import ContactLogic
 from ._prewarm import first_run
 from .assembly import build_model, compile_failed
 from .errors import BackendError
+from .film.jacobian import squeeze_rate
 from .results import to_dataset
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name"]
@@ -38,6 +39,7 @@ class Run:
     wall_time: float = 0.0
     event_time: float = np.nan
     method: str = ""
+    method_note: str = ""
     contacts: list = field(default_factory=list)
     phase_side: np.ndarray | None = None
     phase_v: np.ndarray | None = None
@@ -118,6 +120,33 @@ def _compile_errors():
     return (NumbaError,)
 
 
+#: ``"auto"`` takes the stiff method where the squeeze film's linearised rate times
+#: :data:`NONSTIFF_STEP` exceeds this (the explicit and exponential methods' stability bound is a
+#: few units of ``h lambda``; benchmarks/stiff.py measured the crossover).
+STIFF_RATIO = 3.0
+#: The step [s] the non-stiff methods take on the paper's mechanism without a film (2 s in about 850 steps).
+NONSTIFF_STEP = 2.4e-3
+
+
+def stiff_reason(config) -> str:
+    """Why ``config`` is stiff for the explicit and exponential methods (``""``: it is not)."""
+    if config.beam.model != "planar" or not config.film.enabled:
+        return ""
+    b = config.beam
+    mass = 0.5 * b.density * b.width * b.height * config.mechanism.rod_length
+    rate = squeeze_rate(config.film, b.width, mass)
+    if rate * NONSTIFF_STEP <= STIFF_RATIO:
+        return ""
+    return (f"stiff: the squeeze film damps at {rate:.3g} 1/s, {rate * NONSTIFF_STEP:.3g} times the step of "
+            f"{NONSTIFF_STEP:g} s the explicit methods take")
+
+
+def method_choice(config):
+    """``(method, why)``: :func:`method_name`, and why ``"auto"`` chose the stiff method (else ``""``)."""
+    name = method_name(config)
+    return name, (f"auto: {stiff_reason(config)}" if config.solver.method == "auto" and name == "rodas" else "")
+
+
 def method_name(config):
     """The integration method that ``solver.method`` names.
 
@@ -132,6 +161,8 @@ def method_name(config):
     m = config.solver.method
     if m != "auto":
         return m
+    if stiff_reason(config):
+        return "rodas"
     if config.beam.model == "planar" and (config.film.model == "none" or config.contact.law == "none"):
         return "exponential-adams"
     return "DOP853" if config.beam.modes == 1 else "exponential"
@@ -221,6 +252,10 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     out_method = method_name(config)
     method = integrate.method(out_method)
     options = {"omega": model.state_frequencies, "zeta": config.beam.damping_ratio}
+    stiff = out_method == "rodas"
+    if stiff:
+        missing = model.jacobian_missing(None)
+        note = "Jacobian analytic" if not missing else f"Jacobian by finite differences: {missing}"
     if _compiled_loop(model, out_method):
         _compile_on_two_cores(model, motion, method)
     t = 0.0
@@ -239,6 +274,10 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
         compiled_loop = _compiled_loop(model, out_method)
+        if stiff:
+            options["jacobian"] = not model.jacobian_missing(phase)
+            if not options["jacobian"] and "finite differences" not in note:
+                note += f"; by finite differences in contact phases ({model.jacobian_missing(phase)})"
         try:
             seg = integrate.integrate(method, *model.functions(), model.with_phase(phase), t, y, s.t_end,
                                       t_eval[t_eval > t], rtol=s.rtol, atol=s.atol, max_step=s.max_step,
@@ -292,6 +331,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
             break
         if t >= s.t_end:
             break
+    out.method_note = "; ".join(x for x in (method_choice(config)[1], note if stiff else "") if x)
     out.impacts = logic.impacts
     out.contacts = logic.contacts
     out.t = np.concatenate(ts)

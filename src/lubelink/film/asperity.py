@@ -19,17 +19,18 @@ import numpy as np
 from .._jit import jitable, kernel
 from .reynolds import pad_start
 
-__all__ = ["f52", "asperity_factor", "asperity_pressure", "modal_asperity_force", "asperity_force_many"]
+__all__ = ["f52", "greenwood_tripp_integral", "asperity_factor", "asperity_pressure", "asperity_stiffness",
+           "modal_asperity_force", "modal_asperity_jacobian", "asperity_force_many"]
 
 #: Simpson intervals of :func:`f52` (relative error below 1e-9 for every ``lam``, see the tests).
 F52_INTERVALS = 256
 
 
 @jitable
-def f52(lam):
-    """The Greenwood-Tripp integral ``F_{5/2}(lam)`` [-] of the standardised separation ``lam = h / sigma``.
+def greenwood_tripp_integral(lam, k):
+    """``F_k(lam) = 1/sqrt(2 pi) int_lam^inf (s - lam)^k exp(-s^2 / 2) ds`` [-] for ``k = 3/2`` or ``5/2``.
 
-    With ``s - lam = w^2`` it is ``2/sqrt(2 pi) int w^6 exp(-(w^2 + lam)^2 / 2) dw``, a smooth
+    With ``s - lam = w^2`` it is ``2/sqrt(2 pi) int w^(2 k + 1) exp(-(w^2 + lam)^2 / 2) dw``, a smooth
     integrand that is negligible (below ``e^-50``) outside ``|w^2 + lam| < 10``: composite Simpson
     over that range. 0 for ``lam >= 10``.
     """
@@ -39,14 +40,22 @@ def f52(lam):
     hi = np.sqrt(10.0 - lam)
     n = F52_INTERVALS
     h = (hi - lo) / n
+    power = int(2.0 * k + 1.0)
     total = 0.0
-    for k in range(n + 1):
-        w = lo + k * h
+    for j in range(n + 1):
+        w = lo + j * h
         a = w * w + lam
-        g = w**6 * np.exp(-0.5 * a * a)
-        c = 1.0 if (k == 0 or k == n) else (4.0 if k % 2 == 1 else 2.0)
+        g = w**power * np.exp(-0.5 * a * a)
+        c = 1.0 if (j == 0 or j == n) else (4.0 if j % 2 == 1 else 2.0)
         total += c * g
     return 2.0 / np.sqrt(2.0 * np.pi) * total * h / 3.0
+
+
+@jitable
+def f52(lam):
+    """The Greenwood-Tripp integral ``F_{5/2}(lam)`` [-] of the standardised separation ``lam = h / sigma``
+    (:func:`greenwood_tripp_integral`); its derivative is ``-5/2 F_{3/2}(lam)``."""
+    return greenwood_tripp_integral(lam, 2.5)
 
 
 @jitable
@@ -61,6 +70,45 @@ def asperity_pressure(h, sigma, K, modulus):
     if sigma <= 0.0:
         return 0.0
     return K * modulus * f52(h / sigma)
+
+
+@jitable
+def asperity_stiffness(h, sigma, K, modulus):
+    """``d p_a / d h`` [Pa/m] of :func:`asperity_pressure`: ``-5/2 K E' F_{3/2}(h / sigma) / sigma`` (0 if ``sigma = 0``)."""
+    if sigma <= 0.0:
+        return 0.0
+    return -2.5 * K * modulus * greenwood_tripp_integral(h / sigma, 1.5) / sigma
+
+
+@jitable
+def modal_asperity_jacobian(q, x_star, f, B, pad, L, Jq):
+    """Add ``dF_n/dq_m`` [N/m] of :func:`modal_asperity_force` to ``Jq`` ``(N, N)``.
+
+    ``dF_n/dq_m = B sum_side sum_j w_j p_a'(xi_j) s_n(x_j) s_m(x_j)`` (``d xi / d q_m = -side s_m``).
+    """
+    if f.roughness <= 0.0:
+        return
+    N = q.shape[0]
+    K = asperity_factor(f.summit_product, f.summit_ratio)
+    x0 = pad_start(x_star, f.pad_length, f.pad_reference)
+    nodes = pad.quad.shape[1]
+    s = np.empty(N)
+    for side in (1.0, -1.0):
+        if side < 0.0 and f.sides != 2:
+            break
+        for j in range(nodes):
+            x = x0 + pad.quad[0, j]
+            u = 0.0
+            for n in range(N):
+                s[n] = np.sin((n + 1) * np.pi / L * x)
+                u += q[n] * s[n]
+            k = asperity_stiffness(0.5 * f.clearance - side * u, f.roughness, K, f.contact_modulus)
+            if k == 0.0:
+                continue
+            a = B * pad.quad[1, j] * k
+            for n in range(N):
+                for m in range(N):
+                    Jq[n, m] += a * s[n] * s[m]
 
 
 @jitable

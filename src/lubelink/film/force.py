@@ -16,7 +16,7 @@ from .._jit import jitable, kernel, stack_empty
 from ..params import Film
 from ..views import kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
-                       WEDGE_SQUEEZE, effective_film, grid_modal_force, pad_start, pressure_gradient,
+                       WEDGE_SQUEEZE, effective_film, effective_film_slope, grid_modal_force, pad_start, pressure_gradient,
                        reynolds_cavitation, reynolds_constant)
 from .width import ONE_D, width_side, width_sines
 
@@ -168,20 +168,25 @@ def _half_sommerfeld_side(side, ws, nodes, f, B, pad, S, F):
 
 
 @jitable
-def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
-    """Add the modal forces of the film on ``side`` to ``F`` [N]; return its resultant along +j [N].
+def _keep_slope(slope, j, xi, floor):
+    """``slope[j] = d effective_film / d xi`` at ``xi`` (``slope`` None: compiles to nothing)."""
+    if slope is None:
+        return
+    slope[j] = effective_film_slope(xi, floor)
 
-    ``side = 1``: the film ``H/2 - u2`` (the paper's); ``-1``: ``H/2 + u2``, which is the first
-    one for the mirrored state ``-q`` with its force mirrored back. ``ws``: scratch holding
-    ``sin``, ``cos(beta_n x0)`` in its first ``2 N`` entries, then room for the film, ``Q`` and
-    ``w p'`` at the nodes. (The tables and the scratch are indexed, not sliced: a view of an
-    array costs two atomic reference-count updates in compiled code, which here would cost more
-    than the arithmetic.)
+
+@jitable
+def film_nodes(side, q, q_dot, ws, L, f, pad, slope):
+    """The film on ``side`` at the pad's nodes, and its integrals ``(I1, I2, I3)`` (:func:`reynolds_constant`).
+
+    Writes the film the Reynolds equation sees, ``effective_film(H/2 - side u2(x0 + X_j))`` [m],
+    at ``ws[2 N:2 N + nodes]`` and ``Q(X_j)`` [m^2/s] (0 without the squeeze term) after it;
+    ``ws`` holds ``sin``, ``cos(beta_n x0)`` in its first ``2 N`` entries. ``slope`` (an array of
+    ``nodes``, or None: compiled out) receives ``d effective_film / d xi`` at each node.
     """
     N = q.shape[0]
-    mu = f.viscosity
     nodes = pad.quad.shape[1]
-    o_xi, o_Q, o_wdp = 2 * N, 2 * N + nodes, 2 * N + 2 * nodes
+    o_xi, o_Q = 2 * N, 2 * N + nodes
     squeeze = f.model == WEDGE_SQUEEZE
     for j in range(nodes):
         ws[o_xi + j] = 0.5 * f.clearance
@@ -199,12 +204,32 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
     I2 = 0.0
     I3 = 0.0
     for j in range(nodes):
+        _keep_slope(slope, j, ws[o_xi + j], f.thickness_floor)
         xi = effective_film(ws[o_xi + j], f.thickness_floor)
         ws[o_xi + j] = xi
         w_inv3 = pad.quad[1, j] / (xi * xi * xi)
         I1 += w_inv3 * xi
         I2 += w_inv3
         I3 += w_inv3 * ws[o_Q + j]
+    return I1, I2, I3
+
+
+@jitable
+def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
+    """Add the modal forces of the film on ``side`` to ``F`` [N]; return its resultant along +j [N].
+
+    ``side = 1``: the film ``H/2 - u2`` (the paper's); ``-1``: ``H/2 + u2``, which is the first
+    one for the mirrored state ``-q`` with its force mirrored back. ``ws``: scratch holding
+    ``sin``, ``cos(beta_n x0)`` in its first ``2 N`` entries, then room for the film, ``Q`` and
+    ``w p'`` at the nodes. (The tables and the scratch are indexed, not sliced: a view of an
+    array costs two atomic reference-count updates in compiled code, which here would cost more
+    than the arithmetic.)
+    """
+    N = q.shape[0]
+    mu = f.viscosity
+    nodes = pad.quad.shape[1]
+    o_xi, o_Q, o_wdp = 2 * N, 2 * N + nodes, 2 * N + 2 * nodes
+    I1, I2, I3 = film_nodes(side, q, q_dot, ws, L, f, pad, None)
     C = reynolds_constant(I1, I2, I3, V_r, mu)
     for j in range(nodes):
         ws[o_wdp + j] = pad.quad[1, j] * pressure_gradient(ws[o_xi + j], ws[o_Q + j], C, V_r, mu)

@@ -14,6 +14,7 @@ from .._jit import jitable
 from ..params import CHOICES
 
 __all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film",
+           "effective_film_slope",
            "grid_modal_force"]
 
 NO_FILM, WEDGE, WEDGE_SQUEEZE = (CHOICES["film.model"].index(v) for v in ("none", "wedge", "wedge+squeeze"))
@@ -50,6 +51,16 @@ def effective_film(xi, floor):
     if xi <= 0.0:
         return floor
     return floor + xi * xi / (4.0 * floor)
+
+
+@jitable
+def effective_film_slope(xi, floor):
+    """``d effective_film / d xi`` [-]: 1 above ``2 h_f``, ``xi / (2 h_f)`` below, 0 in contact."""
+    if xi >= 2.0 * floor:
+        return 1.0
+    if xi <= 0.0:
+        return 0.0
+    return xi / (2.0 * floor)
 
 
 @jitable

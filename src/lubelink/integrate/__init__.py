@@ -12,6 +12,7 @@ module                 job
 ``exponential``        exponential Runge-Kutta for damped oscillators with a nonlinear load
 ``exponential_dense``  its dense output, through the particular solution of each block
 ``exponential_adams``  exponential Adams predictor-corrector, same problems, 2 evaluations a step
+``rodas``              RODAS4, a Rosenbrock method of order 4(3) for stiff problems (films of micrometres)
 ``phi``                the phi-functions of a damped oscillator's 2x2 block (for ``exponential``)
 ``scipy_methods``      SciPy's RK45, Radau, BDF, LSODA behind the driver's method interface
 =====================  ============================================================================
@@ -32,7 +33,7 @@ __all__ = ["METHODS", "COMPILED_METHODS", "SCIPY_METHODS", "STEPS_PER_CALL", "me
 #: dense output lives in its module, or in the second module named.
 _COMPILED = {"DOP853": ("dop853",), "bulirsch-stoer": ("bulirsch_stoer",),
              "exponential": ("exponential", "exponential_dense"),
-             "exponential-adams": ("exponential_adams", "exponential_dense")}
+             "exponential-adams": ("exponential_adams", "exponential_dense"), "rodas": ("rodas",)}
 COMPILED_METHODS = tuple(_COMPILED)
 #: Every method name.
 METHODS = COMPILED_METHODS + SCIPY_METHODS

@@ -1,0 +1,133 @@
+"""The analytic Jacobians (lubelink.film.jacobian, the asperity contact's, the model's) against
+finite differences of the forces they differentiate, and the squeeze rate against the parallel-plate
+squeeze film.
+
+Central differences of the compiled right-hand side with steps chosen for each block (1e-10 m on
+``q``, 1e-7 m/s on ``q_dot``) agree with the analytic entries to about 1e-9 of the largest entry;
+the tolerance 1e-6 leaves room for the differences' own truncation error.
+"""
+
+import numpy as np
+import pytest
+
+from lubelink.assembly import build_model
+from lubelink.config import resolve
+from lubelink.film.asperity import asperity_stiffness, f52, greenwood_tripp_integral
+from lubelink.film.force import modal_film_force
+from lubelink.film.jacobian import has_film_jacobian, modal_film_jacobian, squeeze_rate
+from lubelink.model import rhs
+
+FILMS = [dict(model=m, cavitation=c, sides=s) for m in ("wedge", "wedge+squeeze")
+         for c in ("none", "half-sommerfeld") for s in (1, 2)]
+
+
+def _fd(f, x, steps):
+    J = np.empty((f(x).size, x.size))
+    for k in range(x.size):
+        e = np.zeros(x.size)
+        e[k] = steps[k]
+        J[:, k] = (f(x + e) - f(x - e)) / (2 * steps[k])
+    return J
+
+
+@pytest.mark.parametrize("opts", FILMS, ids=lambda o: "-".join(map(str, o.values())))
+def test_film_jacobian_against_finite_differences(opts):
+    cfg = resolve("lubricated", {"film.clearance": 1e-4, "beam.modes": 5, "film.model": opts["model"],
+                                 "film.cavitation": opts["cavitation"], "film.sides": opts["sides"]})
+    p = build_model(cfg).params
+    rng = np.random.default_rng(1)
+    N = 5
+    q = rng.standard_normal(N) * 1e-5 / np.arange(1, N + 1) ** 2
+    acted = 0.0
+    for V_r in (1.3, -1.3):  # (one sign may cavitate the whole pad)
+        q_dot = rng.standard_normal(N) * 1e-3
+        args = (0.4, V_r, p.film, p.beam.width, p.pad, p.basis.rod_length)
+
+        def force(q, q_dot):
+            F = np.zeros(N)
+            modal_film_force(q, q_dot, *args, F)
+            return F
+
+        Jq, Jv = np.zeros((N, N)), np.zeros((N, N))
+        modal_film_jacobian(q, q_dot, *args, Jq, Jv)
+        Jq_fd = _fd(lambda x: force(x, q_dot), q, np.full(N, 1e-9))
+        Jv_fd = _fd(lambda x: force(q, x), q_dot, np.full(N, 1e-6))
+        acted = max(acted, np.abs(Jq_fd).max())
+        np.testing.assert_allclose(Jq, Jq_fd, rtol=0, atol=1e-6 * max(np.abs(Jq_fd).max(), 1.0))
+        if opts["model"] == "wedge":
+            assert not Jv.any()
+        else:
+            np.testing.assert_allclose(Jv, Jv_fd, rtol=0, atol=1e-6 * max(np.abs(Jv_fd).max(), 1.0))
+    assert acted > 1e3  # the film acts
+
+
+@pytest.mark.parametrize("sets", [
+    {"film.clearance": 1e-4, "beam.modes": 5},
+    {"film.clearance": 5e-6, "beam.modes": 4, "film.sides": 2, "beam.damping_ratio": 0.01},  # asperities touch
+    {"beam.modes": 3, "model.equations": "printed"},
+    {"film.clearance": 1e-4, "beam.modes": 3, "model.equations": "printed-film-sign", "film.thickness_floor": 2e-5},
+], ids=["squeeze", "asperity", "printed", "film-sign-floor"])
+def test_model_jacobian_against_finite_differences(sets):
+    """The right-hand side's Jacobian (an ``out`` of ``n + n^2``) against its own differences, compiled."""
+    cfg = resolve("lubricated", sets)
+    model = build_model(cfg)
+    assert model.jacobian_missing(None) == ""
+    p = model.params
+    n = 2 * cfg.beam.modes
+    rng = np.random.default_rng(2)
+    y = np.concatenate([rng.standard_normal(n // 2) * 2e-6, rng.standard_normal(n // 2) * 1e-3])
+    t = 0.31
+    out = np.empty(n + n * n)
+    rhs(t, y, out, p)
+    f = np.empty(n)
+    rhs(t, y, f, p)
+    np.testing.assert_array_equal(out[:n], f)
+
+    def g(x):
+        d = np.empty(n)
+        rhs(t, x, d, p)
+        return d
+
+    J_fd = _fd(g, y, np.r_[np.full(n // 2, 1e-10), np.full(n // 2, 1e-7)])
+    np.testing.assert_allclose(out[n:].reshape(n, n), J_fd, rtol=0, atol=1e-6 * np.abs(J_fd).max())
+
+
+def test_asperity_stiffness_is_the_derivative_of_the_pressure():
+    """``F_5/2' = -5/2 F_3/2``; the closed form ``F_3/2(0) = Gamma(5/2) D_(-5/2)(0) / sqrt(2 pi)``."""
+    from scipy.special import gamma, pbdv
+
+    for lam in (-1.0, 0.5, 2.0, 4.0):
+        d = (f52(lam + 1e-5) - f52(lam - 1e-5)) / 2e-5
+        assert abs(d + 2.5 * greenwood_tripp_integral(lam, 1.5)) < 1e-8 * max(abs(d), 1e-6)
+        closed = gamma(2.5) * np.exp(-lam ** 2 / 4) * pbdv(-2.5, lam)[0] / np.sqrt(2 * np.pi)
+        assert abs(greenwood_tripp_integral(lam, 1.5) - closed) < 1e-9 * closed
+    sigma, K, E = 1e-6, 1e-4, 2e11
+    h = 2.5e-6
+    d = (K * E * (f52((h + 1e-11) / sigma) - f52((h - 1e-11) / sigma))) / 2e-11
+    assert abs(asperity_stiffness(h, sigma, K, E) - d) < 1e-6 * abs(d)
+
+
+def test_squeeze_rate_is_the_parallel_plate_squeeze_film():
+    """One mode, a short pad at the crest of mode 1, the link at rest and the collar still: the film's
+    ``dF_1/dq_dot_1`` is the parallel-plate squeeze film ``-mu B l^3 / h^3`` (MODEL.md's check), so
+    :func:`squeeze_rate` is ``-dF/dq_dot / m``."""
+    cfg = resolve("lubricated", {"film.clearance": 1e-4, "beam.modes": 1, "film.pad_length": 0.01,
+                                 "film.cavitation": "none"})
+    model = build_model(cfg)
+    p = model.params
+    L, l = p.basis.rod_length, cfg.film.pad_length
+    Jq, Jv = np.zeros((1, 1)), np.zeros((1, 1))
+    modal_film_jacobian(np.zeros(1), np.zeros(1), 0.5 * (L - l), 0.0, p.film, p.beam.width, p.pad, L, Jq, Jv)
+    mu, B, h = cfg.film.viscosity, cfg.beam.width, 0.5 * cfg.film.clearance
+    plate = mu * B * l ** 3 / h ** 3
+    assert abs(-Jv[0, 0] - plate) < 2e-4 * plate  # sin(beta x)^2 >= 0.9998 over the pad
+    assert abs(squeeze_rate(cfg.film, B, p.basis.modal_mass) - plate / p.basis.modal_mass) < 1e-12 * plate
+
+
+def test_what_the_analytic_jacobian_does_not_cover_is_named():
+    for sets, words in [({"film.cavitation": "reynolds"}, "reynolds"), ({"film.reynolds": "2d"}, "2d")]:
+        cfg = resolve("lubricated", sets)
+        assert words in has_film_jacobian(cfg.film)
+        assert words in build_model(cfg).jacobian_missing(None)
+    assert "spatial" in build_model(resolve("spatial-slider-crank")).jacobian_missing(None)
+    assert "contact" in build_model(resolve("lubricated")).jacobian_missing((1.0, 0.1))
