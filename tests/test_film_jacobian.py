@@ -109,7 +109,7 @@ def test_asperity_stiffness_is_the_derivative_of_the_pressure():
 
 def test_squeeze_rate_is_the_parallel_plate_squeeze_film():
     """One mode, a short pad at the crest of mode 1, the link at rest and the collar still: the film's
-    ``dF_1/dq_dot_1`` is the parallel-plate squeeze film ``-mu B l^3 / h^3`` (MODEL.md's check), so
+    ``dF_1/dq_dot_1`` is the parallel-plate squeeze film ``-mu B l^3 / h^3`` (a classical closed form), so
     :func:`squeeze_rate` is ``-dF/dq_dot / m``."""
     cfg = resolve("lubricated", {"film.clearance": 1e-4, "beam.modes": 1, "film.pad_length": 0.01,
                                  "film.cavitation": "none"})

@@ -33,11 +33,20 @@ def fd_operators(sec, n):
 
 
 def fd_frequencies(sec, n, count):
-    """Lowest ``count`` circular frequencies [rad/s] by finite differences."""
-    _, K, m = fd_operators(sec, n)
+    """Lowest ``count`` circular frequencies [rad/s] by finite differences.
+
+    The largest eigenvalues of the inverse problem, with ``K^-1 = G diag(1 / E I) G`` from the
+    discrete Green's function of the second difference, ``G_ij = -h x_i (L - x_j) / L`` for
+    ``x_i <= x_j`` (exact): no ill-conditioned inversion (``cond K ~ n^4``; inverting ``K`` by LU
+    left errors of 1e-8 in the reference on some machines).
+    """
+    x, K, m = fd_operators(sec, n)
+    h = L / n
+    G = -h * np.minimum.outer(x, x) * (L - np.maximum.outer(x, x)) / L
+    EI = E * np.asarray(sec.functions()[1](x), dtype=float) * np.ones_like(x)
     s = np.sqrt(m)
-    # the largest eigenvalues of the inverse problem: accurate to round-off of the largest, not of K's
-    mu = np.linalg.eigvalsh(s[:, None] * np.linalg.inv(K) * s[None, :])[::-1][:count]
+    K_inv = (G / EI[None, :]) @ G
+    mu = np.linalg.eigvalsh(s[:, None] * K_inv * s[None, :])[::-1][:count]
     return 1.0 / np.sqrt(mu)
 
 
