@@ -334,3 +334,12 @@ def test_the_command_flushes_its_output_and_runs_the_exit_handlers_before_its_fa
     bad = subprocess.run([sys.executable, "-c", code, "run", "--no-output", "--set", "beam.modes=0"],
                          capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and "beam.modes" in bad.stderr and bad.stdout == "handler ran\n"
+
+
+def test_run_says_which_method_ran_and_why(tmp_path):
+    """The ``guide`` scenario is stiff: the summary's solver line names RODAS4 and the reason."""
+    r = cli("run", "--scenario", "guide", "--no-output", "--set", "solver.t_end=0.02", "--set", "output.x_points=11",
+            "--set", "output.pad_points=5", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    line = next(ln for ln in r.stdout.splitlines() if ln.startswith("solver"))
+    assert "rodas (auto: stiff: the squeeze film damps at" in line and "Jacobian analytic" in line

@@ -63,3 +63,13 @@ def test_the_cli_says_the_budget_in_the_summary_and_the_help(tmp_path):
     help_text = subprocess.run([sys.executable, "-m", "lubelink", "run", "--help"], capture_output=True,
                                text=True).stdout
     assert "default 3600 s" in " ".join(help_text.split())
+
+
+def test_the_stiff_film_is_priced_for_the_method_that_runs():
+    """At 100 um (``benchmarks/stiff.py``: 0.9 s with 15 modes by RODAS4, about 12 min by the
+    exponential method) the estimate knows both, within a factor of a few."""
+    stiff = {"film.clearance": 1e-4, "contact.law": "compliant", "beam.modes": 15}
+    rodas = run_cost(lubelink.resolve_config("lubricated", stiff))
+    assert 0.2 < rodas.seconds < 5.0 and "stiff film" in rodas.reason
+    slow = run_cost(lubelink.resolve_config("lubricated", {**stiff, "solver.method": "exponential"}))
+    assert 120.0 < slow.seconds < 3600.0 and "not made for a stiff film" in slow.reason

@@ -299,6 +299,13 @@ def test_default_tolerances_keep_the_deflection_within_a_micrometre(scenario, ov
     ("lubricated", {}, "DOP853"),
     ("spatial-slider-crank", {"film.model": "none"}, "exponential"),
     ("paper-dry", {"beam.modes": 5, "solver.method": "exponential"}, "exponential"),
+    ("lubricated", {"film.clearance": 1e-4}, "rodas"),
+    ("lubricated", {"film.clearance": 1e-3, "beam.modes": 7}, "rodas"),
+    ("lubricated", {"film.clearance": 4e-3}, "DOP853"),
+    ("lubricated", {"film.clearance": 2e-3}, "rodas"),
+    ("lubricated", {"film.clearance": 1e-4, "solver.method": "exponential"}, "exponential"),
+    ("guide", {}, "rodas"),
+    ("spatial-slider-crank", {"film.model": "wedge+squeeze", "film.clearance": 1e-4}, "exponential"),
 ])
 def test_auto_picks_the_adams_method_for_the_planar_link_without_a_film_or_without_impacts(scenario, overrides,
                                                                                            expected):
@@ -328,3 +335,21 @@ def test_a_run_like_an_earlier_one_starts_with_its_measured_step_budget(monkeypa
     second = run(config)
     assert asked == [budget]
     np.testing.assert_array_equal(second.y, first.y)
+
+
+def test_the_stiff_film_agrees_across_three_methods_and_auto_says_why():
+    """The film at 100 um: RODAS4 (analytic Jacobian, and by finite differences through the Reynolds
+    cavitation's neighbour, half-Sommerfeld, forced), SciPy's Radau and the exponential method agree."""
+    base = {"film.clearance": 1e-4, "contact.law": "compliant", "beam.modes": 3, "solver.t_end": 0.03,
+            "output.x_points": 11, "output.pad_points": 5}
+    auto = lubelink.simulate("lubricated", set=base)
+    assert auto.attrs["solver_method"] == "rodas"
+    assert "stiff: the squeeze film damps at 2.61e+06 1/s" in auto.attrs["solver_note"]
+    assert "Jacobian analytic" in auto.attrs["solver_note"]
+    for method in ("Radau", "exponential"):
+        other = lubelink.simulate("lubricated", set={**base, "solver.method": method})
+        assert float(np.abs(auto.u2_mid - other.u2_mid).max()) < 1e-8, method
+        assert float(np.abs(auto.film_min - other.film_min).max()) < 1e-8, method
+    assert auto.attrs["nfev"] < 0.05 * other.attrs["nfev"]  # the exponential method's steps follow the film
+    fd = run(resolve("lubricated", {**base, "film.cavitation": "reynolds"}))
+    assert "Jacobian by finite differences: film.cavitation = 'reynolds'" in fd.method_note

@@ -41,6 +41,15 @@ PAPER_IMPACT_PAD_LENGTH = 0.12
 PAPER_IMPACT_VISCOSITY = 0.014
 PAPER_IMPACT_CLEARANCE = 5.4984e-3
 
+#: The ``guide`` scenario (docs/configuration.md): a total clearance of 40 um (a collar bored H7 over
+#: a link ground g6 at 10 mm leaves 5-29 um; a guide for a sliding fit, 20-50 um); ISO VG 32
+#: oil at 40 C (32 mm^2/s times 860 kg/m^3); ground steel surfaces of Ra 0.3 um each, combined RMS
+#: roughness 1.25 Ra sqrt(2) ~ 0.5 um; 15 modes, which docs/model.md section 7.5 shows converged.
+GUIDE_CLEARANCE = 4.0e-5
+GUIDE_VISCOSITY = 0.0275
+GUIDE_ROUGHNESS = 0.5e-6
+GUIDE_MODES = 15
+
 #: Wall-clock budget of every run [s] (``solver.max_wall_time`` of every scenario, hence of every
 #: configuration read from a file, a dict or ``--set``): a run that would take longer stops with
 #: status ``timeout`` and keeps its results so far. The CLI warns before starting a run whose
@@ -75,6 +84,16 @@ SCENARIOS: dict[str, dict] = {
         "film": {"model": "wedge+squeeze", "cavitation": "half-sommerfeld", "cavitation_pressure": 1.0e5,
                  "roughness": 1.0e-6, "thickness_floor": 1.0e-6},
         "contact": {"law": "restitution", "restitution": 0.7, "min_film": 2.0e-7},
+    },
+    "guide": {
+        "description": "A real prismatic guide (docs/configuration.md): the paper's mechanism, a collar enclosing "
+                       "the link with 20 um of oil on each side, ISO VG 32 oil at 40 C, cavitation near ambient, "
+                       "ground surfaces with asperity contact, compliant contact, 15 modes; stiff (RODAS4)",
+        "beam": {"modes": GUIDE_MODES},
+        "film": {"model": "wedge+squeeze", "clearance": GUIDE_CLEARANCE, "viscosity": GUIDE_VISCOSITY, "sides": 2,
+                 "cavitation": "half-sommerfeld", "cavitation_pressure": 1.0e5, "roughness": GUIDE_ROUGHNESS,
+                 "thickness_floor": GUIDE_ROUGHNESS},
+        "contact": {"law": "compliant", "min_film": 0.25 * GUIDE_ROUGHNESS},
     },
     "spatial-slider-crank": {
         "description": "The spatial link (docs/spatial.md): the slider-crank with its crank axis tilted 0.2 rad "

@@ -33,7 +33,16 @@ __all__ = ["Estimate", "run_cost", "results_cost", "duration"]
 #: the tables, which cost about one more with one mode: 2.9 us a step of ``paper`` at a fixed step
 #: against 0.93 us an evaluation).
 EVALS_PER_STEP = {"DOP853": 12, "RK45": 6, "bulirsch-stoer": 9, "exponential": 7, "exponential-adams": 3, "Radau": 7,
-                  "BDF": 3, "LSODA": 3}
+                  "BDF": 3, "LSODA": 3, "rodas": 7}
+#: The stiff method's steps per simulated second on a stiff film (``benchmarks/stiff.py``: 3,800-4,900 at
+#: 100 um with 15-63 modes), and the cost of its analytic Jacobian [s] per ``N^2 nodes + N nodes^2`` and
+#: film side (the LU factorisation is included: fitted to 92, 216 and 681 us a step with 15, 31, 63 modes).
+STIFF_STEPS_PER_SECOND, JACOBIAN_PER_TERM = 5000.0, 3.2e-9
+#: A non-stiff method's steps on a stiff film: at least ``t_end * squeeze_rate * (N / 3)^STIFF_POWER /
+#: STIFF_STABILITY``: more modes resolve a deformation local to the pad, which the film damps faster
+#: (fitted to the exponential method at the rate 2.6e6 1/s: 1.27e5 steps for 2 s with 3 modes,
+#: 1.08e7 with 15).
+STIFF_STABILITY, STIFF_POWER = 41.0, 2.76
 #: Methods whose step is bounded by the fastest mode: ``h <= STABILITY / omega_N``.
 EXPLICIT = ("DOP853", "RK45", "bulirsch-stoer")
 #: SciPy's methods: run as Python, step by step.
@@ -95,7 +104,7 @@ def _fastest_mode(config) -> float:
 
 def run_cost(config) -> Estimate:
     """Estimated wall time of :func:`lubelink.simulate.run` on a validated configuration."""
-    from .simulate import method_name
+    from .simulate import film_squeeze_rate, method_name, stiff_reason
 
     s, b, fm = config.solver, config.beam, config.film
     method = method_name(config)
@@ -109,6 +118,13 @@ def run_cost(config) -> Estimate:
     if method in EXPLICIT:
         floors.append((s.t_end * omega / STABILITY,
                        f"{method} is explicit and mode {b.modes} vibrates at {omega:.3g} rad/s"))
+    rate = film_squeeze_rate(config)
+    if method == "rodas" and stiff_reason(config):
+        floors.append((s.t_end * STIFF_STEPS_PER_SECOND, "a stiff film"))
+    elif method not in ("rodas", "Radau", "BDF", "LSODA") and rate > 0.0:
+        floors.append((s.t_end * rate * (b.modes / 3.0) ** STIFF_POWER / STIFF_STABILITY,
+                       f"{method} is not made for a stiff film: the squeeze film damps at {rate:.3g} 1/s "
+                       "(solver.method = 'auto' or 'rodas')"))
     steps, why_steps = max(floors, key=lambda f: f[0])
 
     per_eval = EVAL_BASE + EVAL_PER_MODE_NODE * n_nodes
@@ -121,6 +137,9 @@ def run_cost(config) -> Estimate:
     if s.backend == "numpy":
         per_eval *= NUMPY_FACTOR
     per_step = EVALS_PER_STEP.get(method, 12) * per_eval
+    if method == "rodas":
+        N, nodes = b.modes, fm.quadrature_nodes
+        per_step += JACOBIAN_PER_TERM * (N * N * nodes + N * nodes * nodes) * max(fm.sides if fm.enabled else 0, 1)
     if method in SCIPY:
         per_step += EVALS_PER_STEP.get(method, 12) * SCIPY_PER_EVAL + SCIPY_PER_STEP
     step_seconds = steps * per_step

@@ -21,7 +21,8 @@ from .errors import BackendError
 from .film.jacobian import squeeze_rate
 from .results import to_dataset
 
-__all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name"]
+__all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name", "method_choice",
+           "stiff_reason", "film_squeeze_rate"]
 
 
 @dataclass
@@ -121,20 +122,25 @@ def _compile_errors():
 
 
 #: ``"auto"`` takes the stiff method where the squeeze film's linearised rate times
-#: :data:`NONSTIFF_STEP` exceeds this (the explicit and exponential methods' stability bound is a
-#: few units of ``h lambda``; benchmarks/stiff.py measured the crossover).
-STIFF_RATIO = 3.0
+#: :data:`NONSTIFF_STEP` exceeds this: measured on ``lubricated`` with 3 and 7 modes, RODAS4 and the
+#: exponential method take the same time at 3 mm of clearance (0.19), RODAS4 is 1.5-1.9x faster at
+#: 2 mm (0.65) and 2.9-3.3x at 0.5 mm (docs/model.md section 7.5).
+STIFF_RATIO = 0.3
 #: The step [s] the non-stiff methods take on the paper's mechanism without a film (2 s in about 850 steps).
 NONSTIFF_STEP = 2.4e-3
 
 
+def film_squeeze_rate(config) -> float:
+    """:func:`~lubelink.film.jacobian.squeeze_rate` of the planar link's film [1/s] (0: none, or the spatial link)."""
+    if config.beam.model != "planar" or not config.film.enabled:
+        return 0.0
+    b = config.beam
+    return squeeze_rate(config.film, b.width, 0.5 * b.density * b.width * b.height * config.mechanism.rod_length)
+
+
 def stiff_reason(config) -> str:
     """Why ``config`` is stiff for the explicit and exponential methods (``""``: it is not)."""
-    if config.beam.model != "planar" or not config.film.enabled:
-        return ""
-    b = config.beam
-    mass = 0.5 * b.density * b.width * b.height * config.mechanism.rod_length
-    rate = squeeze_rate(config.film, b.width, mass)
+    rate = film_squeeze_rate(config)
     if rate * NONSTIFF_STEP <= STIFF_RATIO:
         return ""
     return (f"stiff: the squeeze film damps at {rate:.3g} 1/s, {rate * NONSTIFF_STEP:.3g} times the step of "

@@ -15,7 +15,8 @@ import time
 __all__ = ["compile_all"]
 
 
-def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exponential-adams"), progress=None):
+def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exponential-adams", "rodas"),
+                progress=None):
     """Compile (or load) the kernels of ``methods`` and of the results; return the wall time [s].
 
     Parameters
