@@ -86,7 +86,8 @@ import sys, time
 import numpy as np
 import lubelink
 from lubelink.config import resolve
-from lubelink.model import build_model, gap, rhs
+from lubelink.model import gap, rhs
+from lubelink.build import build_model
 try:
     from lubelink.spatial_model import spatial_gap, spatial_rhs
 except ImportError:  # a checkout without the spatial model
@@ -235,7 +236,7 @@ def bench_scipy(args):
 
     import lubelink
     from lubelink.config import resolve
-    from lubelink.model import build_model
+    from lubelink.build import build_model
 
     modes = 7
     config = resolve("paper-dry", {"beam.modes": modes, "solver.backend": "numpy"})

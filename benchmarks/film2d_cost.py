@@ -20,7 +20,8 @@ import numpy as np
 
 import lubelink
 from lubelink.config import resolve
-from lubelink.model import build_model, rhs
+from lubelink.model import rhs
+from lubelink.build import build_model
 
 CASES = [
     ("1d", {}),

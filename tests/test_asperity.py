@@ -54,7 +54,7 @@ def test_effective_film_is_continuous_with_its_slope_and_exact_above_twice_the_f
 
 def _model(**film):
     from lubelink.config import resolve
-    from lubelink.model import build_model
+    from lubelink.build import build_model
 
     sets = {"film.model": "wedge+squeeze", "film.roughness": 1e-6, "beam.modes": 3, "film.quadrature_nodes": 64}
     sets.update({f"film.{k}": v for k, v in film.items()})

@@ -18,7 +18,8 @@ import pytest
 
 from lubelink.config import resolve
 from lubelink.kinematics import PrescribedMotion, SliderCrank, sampled_motion
-from lubelink.model import BackendError, build_model, gap, rhs
+from lubelink.model import BackendError, gap, rhs
+from lubelink.build import build_model
 from lubelink.simulate import run
 
 EPS = np.finfo(float).eps

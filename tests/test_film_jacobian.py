@@ -10,7 +10,7 @@ the tolerance 1e-6 leaves room for the differences' own truncation error.
 import numpy as np
 import pytest
 
-from lubelink.assembly import build_model
+from lubelink.build import build_model
 from lubelink.config import resolve
 from lubelink.film.asperity import asperity_stiffness, f52, greenwood_tripp_integral
 from lubelink.film.force import modal_film_force

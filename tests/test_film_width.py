@@ -19,7 +19,7 @@ from numpy.testing import assert_allclose
 import lubelink
 from lubelink.config import ConfigError, resolve
 from lubelink.film import pressure, pressure_2d, reynolds_cavitation, width_pressure
-from lubelink.model import build_model
+from lubelink.build import build_model
 
 L_PAD = 0.05
 MU = 0.1

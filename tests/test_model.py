@@ -6,7 +6,8 @@ import pytest
 import lubelink
 from lubelink.config import resolve
 from lubelink.kinematics import PrescribedMotion
-from lubelink.model import ContactPhase, build_model
+from lubelink.model import ContactPhase
+from lubelink.build import build_model
 from lubelink.simulate import run
 
 

@@ -10,7 +10,8 @@ import pytest
 from lubelink import _jit, _prewarm
 from lubelink.config import from_dict, parse_toml, resolve, to_toml
 from lubelink.integrate.driver import signatures
-from lubelink.model import build_model, rhs
+from lubelink.model import rhs
+from lubelink.build import build_model
 from lubelink.simulate import run
 
 pytestmark = pytest.mark.skipif(not _jit.ENABLED, reason="Numba disabled")
@@ -121,7 +122,7 @@ def test_a_cold_short_run_runs_as_python_and_compiles_in_the_background(monkeypa
     model, chosen, started = _first(monkeypatch, tmp_path)
     assert not chosen.compiled and chosen.params is model.params
     assert "background" in chosen.backend_note and len(started) == 1
-    assert started[0][0][-3:] == ["lubelink._prewarm", "--background", str(tmp_path / "compile.lock")]
+    assert started[0][0][-2:] == ["lubelink._background", str(tmp_path / "compile.lock")]
 
 
 def test_a_cold_long_run_compiles_in_the_foreground(monkeypatch, tmp_path):

@@ -10,7 +10,7 @@ import pytest
 from lubelink import beam, config, section
 from lubelink.config import ConfigError
 from lubelink.kinematics import PrescribedMotion
-from lubelink.model import build_model
+from lubelink.build import build_model
 from lubelink.params import Beam
 
 E, RHO, B, H, L = 207e9, 7650.0, 0.01, 0.01, 1.0

@@ -126,7 +126,7 @@ def test_domain_exit_finds_the_first_state_outside_by_brute_force():
     measures, each on a fine grid, exceed a limit; a non-finite state counts as outside."""
     import importlib
 
-    from lubelink.assembly import build_model
+    from lubelink.build import build_model
     from lubelink.beam import linear_domain
 
     domain_exit = importlib.import_module("lubelink.simulate").domain_exit

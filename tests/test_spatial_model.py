@@ -21,7 +21,8 @@ import pytest
 import lubelink
 from lubelink import spatial
 from lubelink.config import resolve
-from lubelink.model import build_model, rhs, rhs_given
+from lubelink.model import rhs, rhs_given
+from lubelink.build import build_model
 from lubelink.results import to_dataset
 from lubelink.simulate import run as simulate_run
 from lubelink.spatial_model import SpatialModel, spatial_gap, spatial_rhs

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink.assembly import build_model
+from lubelink.build import build_model
 from lubelink.config import resolve
 from lubelink.errors import BackendError
 from lubelink.simulate import run

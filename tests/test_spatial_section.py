@@ -20,7 +20,7 @@ import pytest
 import lubelink
 from lubelink import section, spatial, spatial_section
 from lubelink.config import resolve
-from lubelink.model import build_model
+from lubelink.build import build_model
 from lubelink.params import Beam
 
 E, RHO, B, H, L = 207e9, 7650.0, 0.01, 0.01, 1.0

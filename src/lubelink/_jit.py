@@ -75,6 +75,14 @@ def _options(func):
     return {}
 
 
+def cores() -> int:
+    """The processors this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - macOS, Windows
+        return os.cpu_count() or 1
+
+
 class NumbaUnavailable(RuntimeError):
     """The compiled path was asked for where Numba is missing or disabled."""
 

@@ -19,7 +19,7 @@ The helper reports on its standard output, one line per kernel done: ``rhs``, ``
 A cold *short* run does better still (:func:`first_run`, for :func:`lubelink.simulate` and
 ``lubelink run``): the numpy backend runs the very functions Numba would compile, so when the run
 and its results would take a few seconds as Python (:mod:`lubelink.estimate`), it runs as Python
-at once while a background process (``python -m lubelink._prewarm --background``) runs the same
+at once while a background process (``python -m lubelink._background``) runs the same
 configuration compiled, for the cache only: the first ``paper`` run takes about 6 s instead of
 25-40 s, the next runs load the compiled kernels. The summary line and the results' ``backend``
 attributes say so. One background compile runs at a time per cache (a lock file beside the
@@ -36,6 +36,8 @@ import subprocess
 import sys
 import time
 
+from ._jit import cores
+
 __all__ = ["start", "wait", "first_run"]
 
 #: Longest wait for the helper [s]: beyond it this process compiles what it still needs itself.
@@ -43,13 +45,6 @@ WAIT_LIMIT = 120.0
 #: Longest estimated run as Python, results included [s], that a cold first run takes at once
 #: instead of compiling first (compiling ``paper``'s kernels: 25-40 s on two cores).
 FIRST_RUN_LIMIT = 6.0
-
-
-def _cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - macOS, Windows
-        return os.cpu_count() or 1
 
 
 def _cached(dispatcher, args) -> bool:
@@ -80,7 +75,7 @@ def _helped(model, motion) -> bool:
 
 def start(model, motion=None):
     """The helper process compiling ``model``'s kernels, or None (nothing to gain; see the module)."""
-    if not _helped(model, motion) or _cores() < 2:
+    if not _helped(model, motion) or cores() < 2:
         return None
     from .config import to_toml
     from .integrate.driver import signatures
@@ -170,7 +165,7 @@ def first_run(model, motion=None):
             or os.environ.get("LUBELINK_FIRST_RUN", "python") == "compile"):
         return model
     from . import integrate
-    from .simulate import method_name
+    from .choice import method_name
 
     if method_name(config) not in integrate.COMPILED_METHODS:
         return model
@@ -203,7 +198,7 @@ def first_run(model, motion=None):
 
     env = dict(os.environ, LUBELINK_PREWARM="0")
     try:
-        proc = subprocess.Popen([sys.executable, "-m", "lubelink._prewarm", "--background", lock],
+        proc = subprocess.Popen([sys.executable, "-m", "lubelink._background", lock],
                                 stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 env=env, start_new_session=True)
         proc.stdin.write(to_toml(config).encode())
@@ -213,30 +208,6 @@ def first_run(model, motion=None):
     _BACKGROUND.append(proc)
     return interpreted(model, f"a first run: Python, about {duration(seconds)}, while the compiled kernels are "
                               f"built in the background, pid {proc.pid}; later runs use them")
-
-
-def _background(lock):
-    """The background compile: run the configuration on stdin compiled, for the cache only."""
-    import fcntl
-
-    text = sys.stdin.read()
-    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:  # another one compiles
-        return
-    try:
-        os.nice(5)
-    except OSError:  # pragma: no cover
-        pass
-    from dataclasses import replace
-
-    from .config import from_dict, parse_toml
-    from .results import collect
-    from .simulate import run
-
-    config = from_dict(parse_toml(text, "<background>"))
-    collect(run(replace(config, solver=replace(config.solver, backend="numba"))))
 
 
 def _stop(proc):
@@ -254,7 +225,7 @@ def main():
     """The helper: compile the right-hand side and the gap of the configuration on stdin."""
     from .config import from_dict, parse_toml
     from .integrate.driver import first_class, signatures
-    from .assembly import build_model
+    from .build import build_model
     from .model import gap, rhs
 
     model = build_model(from_dict(parse_toml(sys.stdin.read(), "<prewarm>")))
@@ -273,14 +244,10 @@ def compile_results(model):
     """Compile the batched results kernels of ``model`` (a results of two samples of the rest state)."""
     import numpy as np
 
-    from .results import collect
-    from .simulate import Run
+    from .results import Run, collect
 
     collect(Run(model=model, t=np.array([0.0, 1e-3]), y=np.zeros((2, model.initial_state().size))))
 
 
 if __name__ == "__main__":
-    if sys.argv[1:2] == ["--background"]:
-        _background(sys.argv[2])
-    else:
-        main()
+    main()

@@ -25,7 +25,7 @@ from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, event_
 from .params import Config
 from .views import kernel_view
 
-__all__ = ["Model", "build_model", "compile_failed", "interpreted", "make_params"]
+__all__ = ["Model", "compile_failed", "interpreted", "make_params"]
 
 log = logging.getLogger("lubelink")
 
@@ -338,46 +338,6 @@ def _backend(config, motion):
     if wanted == "numba":
         raise BackendError(f"solver.backend = 'numba': not available, {why}; use solver.backend = 'auto' or 'numpy'")
     return False, f"compiled path not used: {why}"
-
-
-def build_model(config: Config, motion=None, section=None) -> Model:
-    """Assemble the model of a validated configuration.
-
-    Parameters
-    ----------
-    config : Config
-        Validated parameters.
-    motion : object, optional
-        A motion provider (see :mod:`lubelink.kinematics`); default: the slider-crank of
-        ``config.mechanism``.
-    section : lubelink.section.Section, optional
-        ``A(x)``, ``I(x)`` replacing the beam's (uniform or ``beam.width_ratio``/``height_ratio``
-        tapered) section.
-
-    Raises
-    ------
-    BackendError
-        ``solver.backend = "numba"`` for a configuration the compiled path cannot run.
-    """
-    if config.beam.model == "spatial":
-        from .spatial_model import build_spatial_model
-
-        return build_spatial_model(config, motion, section)
-    if motion is None:
-        motion = SliderCrank(config.mechanism)
-    else:
-        from .spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank
-
-        if isinstance(motion, (SpatialPrescribedMotion, SpatialSliderCrank)):
-            from .validation import ConfigError
-
-            raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' "
-                               "only; set beam.model = 'spatial', or pass a planar motion (lubelink.kinematics)"])
-    compiled, note = _backend(config, motion)
-    if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
-        raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "
-                           "slider-crank motion provides")
-    return Model(config, motion, make_params(config, motion.table(config.collar.mass), section), compiled, note)
 
 
 def interpreted(model: Model, note: str) -> Model:

@@ -255,7 +255,7 @@ def _cmd_run(args):
     import time
 
     from ._prewarm import first_run
-    from .assembly import build_model
+    from .build import build_model
     from .netcdf import EXISTS, output_problem
     from .results import collect
     from .simulate import run

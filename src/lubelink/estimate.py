@@ -104,7 +104,7 @@ def _fastest_mode(config) -> float:
 
 def run_cost(config) -> Estimate:
     """Estimated wall time of :func:`lubelink.simulate.run` on a validated configuration."""
-    from .simulate import film_squeeze_rate, method_name, stiff_reason
+    from .choice import film_squeeze_rate, method_name, stiff_reason
 
     s, b, fm = config.solver, config.beam, config.film
     method = method_name(config)

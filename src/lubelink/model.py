@@ -381,14 +381,3 @@ def thinnest_many(x_star, y, p):
     for i in range(x_star.shape[0]):
         out[i] = thinnest_given(x_star[i], y[i], p)[0]
     return out
-
-
-
-def __getattr__(name):
-    """``Model``, ``build_model``, ``compile_failed``, ``make_params``: the Python side of the model,
-    in :mod:`lubelink.assembly` (which imports this module)."""
-    if name in ("Model", "build_model", "compile_failed", "make_params"):
-        from . import assembly
-
-        return getattr(assembly, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

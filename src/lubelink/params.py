@@ -15,6 +15,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
+import numpy as np
+
 __all__ = [
     "Mechanism",
     "Beam",
@@ -456,6 +458,12 @@ SECTION_TYPES: dict[str, type] = {
     "solver": Solver,
     "output": Output,
 }
+
+
+def sample_times(solver):
+    """The output times ``0, output_step, ...`` up to ``t_end`` [s] (the last one kept when it rounds up)."""
+    n_out = int(np.floor(solver.t_end / solver.output_step * (1 + 1e-12))) + 1
+    return np.minimum(np.arange(n_out) * solver.output_step, solver.t_end)
 
 
 def __getattr__(name):

@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 import platform
 import time
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -22,9 +23,36 @@ from ._files import atomic_path  # noqa: F401 - found here too
 from .netcdf import (EXISTS, FORMAT_VERSION, NETCDF_SUFFIXES, ResultsFileError, config_of, file_attrs,
                      library_versions, load, output_problem, save, write)
 
-__all__ = ["FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "dataset", "to_dataset", "write", "save", "load",
+
+__all__ = ["Run", "FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "dataset", "to_dataset", "write", "save", "load",
            "config_of", "atomic_path", "ResultsFileError", "versions", "output_problem", "NETCDF_SUFFIXES",
            "CONVENTIONS", "VARIABLE_ATTRS", "file_attrs", "library_versions", "EXISTS"]
+
+
+@dataclass
+class Run:
+    """Raw outcome of :func:`lubelink.simulate.run`: samples, impacts, status and statistics."""
+
+    model: object
+    t: np.ndarray
+    y: np.ndarray
+    status: str = "complete"
+    message: str = "reached solver.t_end"
+    impacts: list = field(default_factory=list)
+    nfev: int = 0
+    nsteps: int = 0
+    wall_time: float = 0.0
+    event_time: float = np.nan
+    method: str = ""
+    method_note: str = ""
+    contacts: list = field(default_factory=list)
+    phase_side: np.ndarray | None = None
+    phase_v: np.ndarray | None = None
+    phase_point: np.ndarray | None = None
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "complete"
 
 
 class Variable(NamedTuple):
@@ -139,9 +167,9 @@ def _pool():
     """
     pid = os.getpid()
     if pid not in _POOL:
-        from ._prewarm import _cores
+        from ._jit import cores
 
-        if _cores() < 2:
+        if cores() < 2:
             _POOL[pid] = None
         else:
             from concurrent.futures import ThreadPoolExecutor

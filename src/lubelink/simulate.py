@@ -8,7 +8,6 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -16,39 +15,14 @@ from . import integrate
 from .config import resolve
 from .contact import ContactLogic
 from ._prewarm import first_run
-from .assembly import build_model, compile_failed
+from .assembly import compile_failed
+from .build import build_model
 from .errors import BackendError
-from .film.jacobian import squeeze_rate
-from .results import to_dataset
+from .choice import method_choice, method_name
+from .params import sample_times
+from .results import Run, to_dataset
 
-__all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name", "method_choice",
-           "stiff_reason", "film_squeeze_rate"]
-
-
-@dataclass
-class Run:
-    """Raw outcome of :func:`run`: samples, impacts, status and statistics."""
-
-    model: object
-    t: np.ndarray
-    y: np.ndarray
-    status: str = "complete"
-    message: str = "reached solver.t_end"
-    impacts: list = field(default_factory=list)
-    nfev: int = 0
-    nsteps: int = 0
-    wall_time: float = 0.0
-    event_time: float = np.nan
-    method: str = ""
-    method_note: str = ""
-    contacts: list = field(default_factory=list)
-    phase_side: np.ndarray | None = None
-    phase_v: np.ndarray | None = None
-    phase_point: np.ndarray | None = None
-
-    @property
-    def complete(self) -> bool:
-        return self.status == "complete"
+__all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name", "method_choice"]
 
 
 def event_resolution(model):
@@ -59,12 +33,6 @@ def event_resolution(model):
     ``T/4`` apart see each of its minima.
     """
     return 2.0 * np.pi / model.omega_n[-1] / 4.0
-
-
-def sample_times(solver):
-    """The output times ``0, output_step, ...`` up to ``t_end`` [s] (the last one kept when it rounds up)."""
-    n_out = int(np.floor(solver.t_end / solver.output_step * (1 + 1e-12))) + 1
-    return np.minimum(np.arange(n_out) * solver.output_step, solver.t_end)
 
 
 #: Quantities of :func:`lubelink.beam.linear_domain` and the ``solver`` limits they are checked against.
@@ -121,59 +89,6 @@ def _compile_errors():
     return (NumbaError,)
 
 
-#: ``"auto"`` takes the stiff method where the squeeze film's linearised rate times
-#: :data:`NONSTIFF_STEP` exceeds this: measured on ``lubricated`` with 3 and 7 modes, RODAS4 and the
-#: exponential method take the same time at 3 mm of clearance (0.19), RODAS4 is 1.5-1.9x faster at
-#: 2 mm (0.65) and 2.9-3.3x at 0.5 mm (docs/model.md section 7.5).
-STIFF_RATIO = 0.3
-#: The step [s] the non-stiff methods take on the paper's mechanism without a film (2 s in about 850 steps).
-NONSTIFF_STEP = 2.4e-3
-
-
-def film_squeeze_rate(config) -> float:
-    """:func:`~lubelink.film.jacobian.squeeze_rate` of the planar link's film [1/s] (0: none, or the spatial link)."""
-    if config.beam.model != "planar" or not config.film.enabled:
-        return 0.0
-    b = config.beam
-    return squeeze_rate(config.film, b.width, 0.5 * b.density * b.width * b.height * config.mechanism.rod_length)
-
-
-def stiff_reason(config) -> str:
-    """Why ``config`` is stiff for the explicit and exponential methods (``""``: it is not)."""
-    rate = film_squeeze_rate(config)
-    if rate * NONSTIFF_STEP <= STIFF_RATIO:
-        return ""
-    return (f"stiff: the squeeze film damps at {rate:.3g} 1/s, {rate * NONSTIFF_STEP:.3g} times the step of "
-            f"{NONSTIFF_STEP:g} s the explicit methods take")
-
-
-def method_choice(config):
-    """``(method, why)``: :func:`method_name`, and why ``"auto"`` chose the stiff method (else ``""``)."""
-    name = method_name(config)
-    return name, (f"auto: {stiff_reason(config)}" if config.solver.method == "auto" and name == "rodas" else "")
-
-
-def method_name(config):
-    """The integration method that ``solver.method`` names.
-
-    ``"auto"``: the exponential Adams method of order six for a planar link without a film or
-    without a contact law (two evaluations a step; at the default tolerances 1.5-2.5x faster than
-    the exponential Runge-Kutta method and DOP853, within 0.11 um of a tight reference, and at
-    equal error on par or faster: benchmarks/README.md); otherwise, a film with impacts or the
-    spatial link, DOP853 for one mode and the exponential Runge-Kutta method for more (impacts
-    amplify the Adams method's larger error, the spatial link's coupling holds its steps short:
-    docs/model.md section 7.1).
-    """
-    m = config.solver.method
-    if m != "auto":
-        return m
-    if stiff_reason(config):
-        return "rodas"
-    if config.beam.model == "planar" and (config.film.model == "none" or config.contact.law == "none"):
-        return "exponential-adams"
-    return "DOP853" if config.beam.modes == 1 else "exponential"
-
-
 def _compile_on_two_cores(model, motion, method):
     """On a cold cache, compile the integration method, its driver and the results here while a
     helper process compiles the right-hand side and the gap (:mod:`lubelink._prewarm`)."""
@@ -228,7 +143,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     progress : callable, optional
         ``progress(t)`` as the integration advances.
     model : Model, optional
-        An assembled model of ``config`` (default: :func:`~lubelink.model.build_model`).
+        An assembled model of ``config`` (default: :func:`~lubelink.assembly.build_model`).
     y0 : array_like, shape ``(2N,)``, optional
         State ``[q, q_dot]`` at t = 0 [m, m/s] (default: zero, the paper's). It must not lie
         inside a contact (thinnest film below ``contact.min_film``).

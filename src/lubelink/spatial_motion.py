@@ -444,7 +444,7 @@ def motion_problems(motion, config):
                 "(lubelink.kinematics) drives beam.model = 'planar'"]
     if isinstance(motion, SpatialSliderCrank):
         return []
-    from .simulate import sample_times
+    from .params import sample_times
 
     s = config.solver
     t = sample_times(s)

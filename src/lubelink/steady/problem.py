@@ -88,7 +88,7 @@ class PeriodMap:
     """
 
     def __init__(self, config, motion=None, period=None, periods=1, jacobian="auto", samples=64):
-        from ..assembly import build_model
+        from ..build import build_model
 
         if jacobian not in JACOBIANS:
             raise ValueError(f"jacobian = {jacobian!r}: must be one of {', '.join(JACOBIANS)}")

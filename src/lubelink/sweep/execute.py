@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from ..config import ConfigError
+from ..params import sample_times
 from .compute import _compute_points, _describe, _empty_record, _TaskOptions
-from .layout import _time_axis
 from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .schema import SweepError
 from .store import _check_attrs, _export_netcdf, _is_netcdf, _side_store, _Store, load_sweep
@@ -317,7 +317,7 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
     from distributed import as_completed
 
     opts = _TaskOptions(quantities=sp.quantities, time_series=sp.time_series, max_impacts=sp.max_impacts,
-                        n_time=len(_time_axis(sp.base_config)) if sp.time_series else 0,
+                        n_time=len(sample_times(sp.base_config.solver)) if sp.time_series else 0,
                         output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
     trace = str(Path(trace).resolve()) if trace else None
     token = uuid.uuid4().hex[:8]

@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from ..params import sample_times
 from ..results import VARIABLES
 from .schema import ALWAYS, QUANTITIES, SERIES, SWEEP_FORMAT, _parameters
 from .spec import Sweep
@@ -26,12 +27,6 @@ def _chunks(shape, target=4096):
         chunks.append(c)
         room = max(1, room // c)
     return tuple(reversed(chunks))
-
-
-def _time_axis(config):
-    s = config.solver
-    n = int(np.floor(s.t_end / s.output_step * (1 + 1e-12))) + 1  # as lubelink.simulate.run
-    return np.arange(n) * s.output_step
 
 
 #: Units and long names of the time series: those of the results files.
@@ -93,7 +88,7 @@ def _template(sp: Sweep):
         import dask.array as dsa
 
         cfg = sp.base_config
-        t = _time_axis(cfg)
+        t = sample_times(cfg.solver)
         coords["time"] = (("time",), t, {"units": "s", "long_name": "time"})
         extra = {
             "mode": (np.arange(1, cfg.beam.modes + 1), "1", "mode number"),

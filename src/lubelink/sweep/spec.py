@@ -227,7 +227,7 @@ class Sweep:
         """
         from ..config import validate
         from ..estimate import run_cost
-        from .layout import _time_axis
+        from ..params import sample_times
         from .schema import QUANTITIES, SERIES
 
         size = self.size
@@ -252,7 +252,7 @@ class Sweep:
         store_per_point = 1 + 8 + 8 * values + 2 * 16
         if self.time_series:
             cfg = self.base_config
-            n_time = len(_time_axis(cfg))
+            n_time = len(sample_times(cfg.solver))
             extent = {"mode": cfg.beam.modes, "x": cfg.output.x_points, "X": cfg.output.pad_points, None: 1}
             series = sum(8 * n_time * extent[SERIES[name][0]] for name in self.time_series)
             per_point_bytes += series
