@@ -300,3 +300,28 @@ def test_energy_balance_without_film():
     np.testing.assert_allclose(energy - energy[0], work, rtol=0, atol=1e-8 * scale)
     # lubelink's own modal_energy agrees with the expression above
     np.testing.assert_allclose(beam.modal_energy(q, qd, ds.omega_n.values, MODAL_MASS), energy, rtol=1e-12)
+
+
+def test_the_wavenumber_is_written_in_one_place():
+    """``beta_n = n pi / L`` is :func:`lubelink.beam.wavenumber` (and ``wavenumbers``): every other module
+    calls them, so that what a reader finds is what the right-hand side runs."""
+    import re
+    from pathlib import Path
+
+    src = Path(beam.__file__).parent
+    pattern = re.compile(r"np\.pi\s*/\s*(L|rod_length)\b|\* np\.pi / (L|rod_length)\b")
+    found = [f"{p.relative_to(src)}:{i}" for p in sorted(src.rglob("*.py")) if p.name != "beam.py"
+             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if pattern.search(line)]
+    assert found == []
+    home = (src / "beam.py").read_text(encoding="utf-8")
+    assert len(pattern.findall(home)) == 2  # wavenumber, wavenumbers
+
+
+def test_deflection_at_one_point_is_the_modal_sum():
+    rng = np.random.default_rng(4)
+    q = rng.standard_normal(6) * 1e-3
+    for x in (0.0, 0.137, 0.5, 1.0):
+        expected = sum(q[n] * np.sin((n + 1) * np.pi * x / 1.0) for n in range(6))
+        assert abs(beam.deflection_at(q, x, 1.0) - expected) < 1e-15
+        assert abs(beam.deflection_at(q, x, 1.0) - beam.deflection(q, np.array([x]), 1.0)[0]) < 1e-15
+    assert beam.wavenumber(3, 2.0) == beam.wavenumbers(3, 2.0)[-1] == 3 * np.pi / 2.0

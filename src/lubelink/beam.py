@@ -12,6 +12,8 @@ import numpy as np
 from ._jit import ENABLED, jitable, kernel
 
 __all__ = [
+    "wavenumber",
+    "deflection_at",
     "wavenumbers",
     "natural_frequencies",
     "modal_mass",
@@ -30,6 +32,22 @@ __all__ = [
 ]
 
 
+@jitable
+def wavenumber(n, rod_length):
+    """The wavenumber of mode ``n`` (from 1), ``beta_n = n pi / L`` [1/m]: the one place it is written."""
+    return n * np.pi / rod_length
+
+
+@jitable
+def deflection_at(q, x, rod_length):
+    """``u2(x) = sum_n q_n sin(beta_n x)`` [m] at one point ``x`` [m] of the link (``q`` [m], shape ``(N,)``)."""
+    u = 0.0
+    for n in range(q.shape[0]):
+        u += q[n] * np.sin(wavenumber(n + 1, rod_length) * x)
+    return u
+
+
+@jitable
 def wavenumbers(modes, rod_length):
     """Modal wavenumbers ``beta_n = n pi / L`` [1/m] for ``n = 1..modes``."""
     return np.arange(1, modes + 1) * np.pi / rod_length
@@ -81,7 +99,7 @@ def rigid_load(A_O2, alpha, n, rod_length):
     rod_length : float
         ``L`` [m].
     """
-    beta = n * np.pi / rod_length
+    beta = wavenumber(n, rod_length)
     sign = 1.0 - 2.0 * ((n + 1) % 2)  # (-1)^(n+1)
     return -2.0 / (rod_length * beta) * (A_O2 * (1.0 + sign) + alpha * rod_length * sign)
 
@@ -261,7 +279,7 @@ def linear_domain(q, rod_length, points):
     of fixed length would have, which the linear (small-deflection) theory neglects.
     """
     q = np.asarray(q, dtype=float)
-    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
+    beta = wavenumbers(q.shape[-1], rod_length)
     x = np.linspace(0.0, rod_length, points)
     u = q @ np.sin(np.outer(beta, x))
     slope = (q * beta) @ np.cos(np.outer(beta, x))

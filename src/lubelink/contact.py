@@ -27,6 +27,7 @@ import numpy as np
 from ._jit import jitable, stack_empty
 from .beam import add_deflection
 from .params import CHOICES
+from .beam import wavenumber, wavenumbers
 
 __all__ = [
     "thinnest_film_side",
@@ -60,7 +61,7 @@ def _u2_derivatives(q, x, rod_length):
     d1 = 0.0
     d2 = 0.0
     for n in range(q.shape[0]):
-        b = (n + 1) * np.pi / rod_length
+        b = wavenumber(n + 1, rod_length)
         s = np.sin(b * x)
         c = np.cos(b * x)
         u += s * q[n]
@@ -95,8 +96,8 @@ def thinnest_film_side(side, q, x0, pad_length, clearance, rod_length, trig):
     c0 = ws[N:2 * N]
     u = ws[2 * N:need]
     for n in range(N):
-        s0[n] = np.sin((n + 1) * np.pi / rod_length * x0)
-        c0[n] = np.cos((n + 1) * np.pi / rod_length * x0)
+        s0[n] = np.sin(wavenumber(n + 1, rod_length) * x0)
+        c0[n] = np.cos(wavenumber(n + 1, rod_length) * x0)
     u[:] = 0.0
     add_deflection(q, s0, c0, trig[0], trig[1], side, u)
     i = np.argmax(u)
@@ -146,7 +147,7 @@ def thinnest_film(q, x0, pad_length, clearance, rod_length, samples=None):
     """:func:`thinnest_film_side` of the film ``H/2 - u2`` with ``samples`` points (default ``16 + 4 N``)."""
     q = np.asarray(q, dtype=float)
     Xs = np.linspace(0.0, pad_length, samples or 16 + 4 * q.shape[-1])
-    bX = np.outer(np.arange(1, q.shape[-1] + 1) * np.pi / rod_length, Xs)
+    bX = np.outer(wavenumbers(q.shape[-1], rod_length), Xs)
     return thinnest_film_side(1.0, q, x0, pad_length, clearance, rod_length, np.stack([np.sin(bX), np.cos(bX)]))
 
 
@@ -161,7 +162,7 @@ def approach_velocity(q, q_dot, x_c, V_c, rod_length):
     """
     v = 0.0
     for n in range(q.shape[0]):
-        b = (n + 1) * np.pi / rod_length
+        b = wavenumber(n + 1, rod_length)
         v += np.sin(b * x_c) * q_dot[n] + b * np.cos(b * x_c) * q[n] * V_c
     return v
 
@@ -189,7 +190,7 @@ def gap_rate_bound(q, q_dot, omega_n, omega, V_r, rod_length):
             return np.inf
         w = np.sqrt(w2)
         a = np.sqrt(q[n] * q[n] + q_dot[n] * q_dot[n] / w2)
-        bound += a * (w + abs(V_r) * (n + 1) * np.pi / rod_length)
+        bound += a * (w + abs(V_r) * wavenumber(n + 1, rod_length))
     return bound
 
 
@@ -213,7 +214,7 @@ def restitution_jump(q_dot, x_c, v_minus, restitution, rod_length):
         ``e`` [-].
     """
     N = q_dot.shape[0]
-    s = np.sin(np.arange(1, N + 1) * np.pi / rod_length * x_c)
+    s = np.sin(wavenumbers(N, rod_length) * x_c)
     return q_dot - (1.0 + restitution) * v_minus * s / np.sum(s * s)
 
 
@@ -224,7 +225,7 @@ def impact_energy_loss(v_minus, x_c, restitution, modes, mass, rod_length):
     ``mass`` is the modal mass ``rho A L / 2`` [kg]. It holds where ``u2'(x_c) = 0`` (an
     interior extremum of the film) only; at a pad edge see :func:`impact_energy_change`.
     """
-    s = np.sin(np.arange(1, modes + 1) * np.pi / rod_length * x_c)
+    s = np.sin(wavenumbers(modes, rod_length) * x_c)
     return 0.5 * (1.0 - restitution**2) * mass / np.sum(s * s) * v_minus**2
 
 
@@ -240,7 +241,7 @@ def impact_energy_change(v_minus, slope_velocity, x_c, restitution, modes, mass,
     ``v - w`` instead of ``v``: at a pad edge the sliding collar drives the approach, and the
     link gains energy when ``w > (1 - e) v / 2``.
     """
-    s = np.sin(np.arange(1, modes + 1) * np.pi / rod_length * x_c)
+    s = np.sin(wavenumbers(modes, rod_length) * x_c)
     m_eff = mass / np.sum(s * s)
     return -0.5 * (1.0 - restitution**2) * m_eff * v_minus**2 + (1.0 + restitution) * m_eff * v_minus * slope_velocity
 
@@ -300,7 +301,7 @@ def constraint_force(q, q_dot, acc, x_c, at_edge, envelope, side, gap, V_r, A_r,
     g_tt = -side * (utt + conv)
     s2 = 0.0
     for n in range(q.shape[0]):
-        sn = np.sin((n + 1) * np.pi / rod_length * x_c)
+        sn = np.sin(wavenumber(n + 1, rod_length) * x_c)
         s2 += sn * sn
     return -mass / s2 * (g_tt + 2.0 * rate * g_t + rate * rate * gap)
 
@@ -347,7 +348,7 @@ def compliant_force(q, q_dot, x0, V_r, f, c, pad, rod_length, side, v_minus, F):
     delta_dot = side * approach_velocity(q, q_dot, x_c, V_r if at_edge else 0.0, rod_length)
     force = lankarani_nikravesh(delta, delta_dot, v_minus, c.stiffness, c.exponent, c.restitution)
     for n in range(q.shape[0]):
-        F[n] -= side * force * np.sin((n + 1) * np.pi / rod_length * x_c)
+        F[n] -= side * force * np.sin(wavenumber(n + 1, rod_length) * x_c)
     return force
 
 

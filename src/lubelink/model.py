@@ -30,6 +30,7 @@ from ._jit import jitable, kernel
 from .errors import BackendError
 from .kinematics import MotionTable, collar_acceleration, motion_at
 from .params import CHOICES
+from .beam import deflection_at, wavenumber
 
 __all__ = ["Params", "Basis", "ContactPhase", "rhs", "gap", "rhs_given", "BackendError"]
 
@@ -149,7 +150,7 @@ def rhs_given(t, kin, y, out, p):
         asperity_term(p.rough, q, x_star, p, p.beam.width, F)
     if reaction != 0.0:
         for n in range(N):
-            F[n] += beam.point_load(reaction, x_star, (n + 1) * np.pi / L)
+            F[n] += beam.point_load(reaction, x_star, wavenumber(n + 1, L))
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         _compliant_term(p.phase, q, q_dot, x_star, V_r, p, F)
     gX, gY = p.mechanism.gravity
@@ -218,15 +219,12 @@ def sustained_on(q, q_dot, acc, x_star, V_r, A_r, p, side, point, rate):
         x_c = x0
     elif point == PAD_END:
         x_c = x0 + p.film.pad_length
-    u = 0.0
-    for n in range(N):
-        u += q[n] * np.sin((n + 1) * np.pi / L * x_c)
-    xi = 0.5 * p.film.clearance - side * u
+    xi = 0.5 * p.film.clearance - side * deflection_at(q, x_c, L)
     m = p.basis.modal_mass
     lam = contact.constraint_force(q, q_dot, acc, x_c, at_edge, False, side, xi - p.contact.min_film, V_r, A_r,
                                    rate, m, L)
     for n in range(N):
-        acc[n] -= side * lam * np.sin((n + 1) * np.pi / L * x_c) / m
+        acc[n] -= side * lam * np.sin(wavenumber(n + 1, L) * x_c) / m
     return lam
 
 

@@ -30,6 +30,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from ._jit import jitable
+from .beam import wavenumbers
 
 __all__ = ["Section", "GalerkinTable", "taper", "galerkin_matrices", "galerkin_table", "physical", "state",
            "eigen_accelerations", "eigen_rate_bound", "eigen_restitution_jump"]
@@ -134,7 +135,7 @@ def galerkin_matrices(section: Section, youngs_modulus, density, modes, rod_leng
     x, w = quadrature(rod_length, modes)
     A = sampled(section, "area", x, rod_length)
     I = sampled(section, moment, x, rod_length)
-    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    beta = wavenumbers(modes, rod_length)
     S = np.sin(np.outer(x, beta))  # (nodes, N)
     mass = density * A * w
     M = S.T @ (mass[:, None] * S)
@@ -182,7 +183,7 @@ def galerkin_table(section, youngs_modulus, density, modes, rod_length, moment="
     x, w = quadrature(rod_length, modes)
     m_ref = 0.5 * float(np.sum(density * np.asarray(section.functions()[0](x)) * w))
     omega_n, Phi = eigenbasis(M, K, m_ref)
-    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    beta = wavenumbers(modes, rod_length)
     c = np.ascontiguousarray
     table = GalerkinTable(c(Phi), c(Phi.T @ M / m_ref), c(r0), c(r1), c(np.abs(Phi).sum(axis=0)),
                           c((beta[:, None] * np.abs(Phi)).sum(axis=0)))
@@ -277,7 +278,7 @@ def eigen_restitution_jump(g, q_dot, x_c, v_minus, restitution, rod_length):
     ``s_n = sin(beta_n x_c)``; that is ``Delta q_dot = -(1 + e) v_c^- M^-1 s / (s^T M^-1 s)``.
     """
     N = q_dot.shape[0]
-    s = np.sin(np.arange(1, N + 1) * np.pi / rod_length * x_c)
+    s = np.sin(wavenumbers(N, rod_length) * x_c)
     c = g.phi.T @ s
     d_eta = -(1.0 + restitution) * v_minus * c / np.sum(c * c)
     return q_dot + g.phi @ d_eta

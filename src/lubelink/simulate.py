@@ -21,6 +21,7 @@ from .errors import BackendError
 from .choice import method_choice, method_name
 from .params import sample_times
 from .results import Run, to_dataset
+from .beam import wavenumbers
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name", "method_choice"]
 
@@ -53,7 +54,7 @@ def domain_exit(model, y):
         return None
     q = model.planar_state(y)[:, :model.modes]
     L = model.config.mechanism.rod_length
-    beta = np.arange(1, model.modes + 1) * np.pi / L
+    beta = wavenumbers(model.modes, L)
     # |u2| <= sum |q_n| and |u2'| <= sum beta_n |q_n|: only the states these bounds do not clear are sampled,
     # and none when the bounds of the largest |q_n| of all states clear (NaN clears nothing)
     def cleared(a):  # a = |q|, shape (..., N)

@@ -32,6 +32,7 @@ import numpy as np
 
 from ._jit import jitable
 from .beam import rigid_load
+from .beam import wavenumbers
 
 __all__ = ["frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations", "deflections"]
 
@@ -41,7 +42,7 @@ def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
 
     Axial fixed-fixed bar ``n pi / L sqrt(E / rho)``; bending ``beta_n^2 sqrt(E I / (rho A))``.
     """
-    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    beta = wavenumbers(modes, rod_length)
     return np.concatenate([beta * np.sqrt(youngs_modulus / density),
                            beta**2 * np.sqrt(youngs_modulus * I_z / (density * area)),
                            beta**2 * np.sqrt(youngs_modulus * I_y / (density * area))])
@@ -119,7 +120,7 @@ def deflections(y, x, rod_length):
     """``(u1, u2, u3)`` [m] at ``x`` of states ``y`` shape ``(..., 6 N)``; each shape ``(..., len(x))``."""
     y = np.asarray(y, dtype=float)
     N = y.shape[-1] // 6
-    S = np.sin(np.outer(np.arange(1, N + 1) * np.pi / rod_length, np.asarray(x, dtype=float)))
+    S = np.sin(np.outer(wavenumbers(N, rod_length), np.asarray(x, dtype=float)))
     return tuple(y[..., k * N:(k + 1) * N] @ S for k in range(3))
 
 

@@ -39,6 +39,7 @@ import numpy as np
 from . import section
 from ._jit import jitable
 from .spatial import axis_acceleration, frame_terms
+from .beam import wavenumbers
 
 __all__ = ["SpatialGalerkin", "axial_stiffness", "spatial_galerkin", "physical", "state", "change_basis",
            "eigen_accelerations"]
@@ -63,7 +64,7 @@ def axial_stiffness(sec, youngs_modulus, modes, rod_length):
     :func:`lubelink.section.quadrature`."""
     x, w = section.quadrature(rod_length, modes)
     A = section.sampled(sec, "area", x, rod_length)
-    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    beta = wavenumbers(modes, rod_length)
     D = np.cos(np.outer(x, beta)) * beta  # s_n'(x)
     K = D.T @ ((youngs_modulus * A * w)[:, None] * D)
     return 0.5 * (K + K.T)

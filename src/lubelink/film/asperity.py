@@ -18,6 +18,7 @@ import numpy as np
 
 from .._jit import jitable, kernel
 from .reynolds import pad_start
+from ..beam import deflection_at, wavenumber
 
 __all__ = ["f52", "greenwood_tripp_integral", "asperity_factor", "asperity_pressure", "asperity_stiffness",
            "modal_asperity_force", "modal_asperity_jacobian", "asperity_force_many"]
@@ -99,7 +100,7 @@ def modal_asperity_jacobian(q, x_star, f, B, pad, L, Jq):
             x = x0 + pad.quad[0, j]
             u = 0.0
             for n in range(N):
-                s[n] = np.sin((n + 1) * np.pi / L * x)
+                s[n] = np.sin(wavenumber(n + 1, L) * x)
                 u += q[n] * s[n]
             k = asperity_stiffness(0.5 * f.clearance - side * u, f.roughness, K, f.contact_modulus)
             if k == 0.0:
@@ -129,16 +130,13 @@ def modal_asperity_force(q, x_star, f, B, pad, L, F):
             break
         for j in range(nodes):
             x = x0 + pad.quad[0, j]
-            u = 0.0
-            for n in range(N):
-                u += q[n] * np.sin((n + 1) * np.pi / L * x)
-            p = asperity_pressure(0.5 * f.clearance - side * u, f.roughness, K, f.contact_modulus)
+            p = asperity_pressure(0.5 * f.clearance - side * deflection_at(q, x, L), f.roughness, K, f.contact_modulus)
             if p == 0.0:
                 continue
             load = side * B * pad.quad[1, j] * p
             total -= load
             for n in range(N):
-                F[n] -= load * np.sin((n + 1) * np.pi / L * x)
+                F[n] -= load * np.sin(wavenumber(n + 1, L) * x)
     return total
 
 

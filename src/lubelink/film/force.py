@@ -19,6 +19,7 @@ from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SI
                        WEDGE_SQUEEZE, effective_film, effective_film_slope, grid_modal_force, pad_start, pressure_gradient,
                        reynolds_cavitation, reynolds_constant)
 from .width import ONE_D, width_side, width_sines
+from ..beam import wavenumber, wavenumbers
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
            "modal_force", "resultant_force", "SIN", "COS", "VERS"]
@@ -85,7 +86,7 @@ def _tables(beta, X):
 @lru_cache(maxsize=64)
 def pad_tables(modes, rod_length, film: Film) -> PadTables:
     """The :class:`PadTables` of ``modes`` sine modes on a link of length ``rod_length`` [m] (cached: read only)."""
-    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    beta = wavenumbers(modes, rod_length)
     l = film.pad_length
     s, w = gauss_legendre(film.quadrature_nodes)
     X = l * s
@@ -196,7 +197,7 @@ def film_nodes(side, q, q_dot, ws, L, f, pad, slope):
         for j in range(nodes):  # xi = H/2 - side u2(x0 + X_j)
             ws[o_xi + j] -= a * pad.trig[COS, n, j] + b * pad.trig[SIN, n, j]
         if squeeze:  # Q = -side sum_n q_dot_n W_n(X), W_n = [c0 (1 - cos bX) + s0 sin bX] / b
-            beta = (n + 1) * np.pi / L
+            beta = wavenumber(n + 1, L)
             a, b = side * q_dot[n] * ws[N + n] / beta, side * q_dot[n] * ws[n] / beta
             for j in range(nodes):
                 ws[o_Q + j] -= a * pad.trig[VERS, n, j] + b * pad.trig[SIN, n, j]
@@ -245,7 +246,7 @@ def _film_side(side, q, q_dot, ws, L, V_r, f, B, pad, F):
         for j in range(nodes):
             av += ws[o_wdp + j] * pad.trig[VERS, n, j]
             bs += ws[o_wdp + j] * pad.trig[SIN, n, j]
-        F[n] += side * B * (ws[N + n] * av + ws[n] * bs) / ((n + 1) * np.pi / L)
+        F[n] += side * B * (ws[N + n] * av + ws[n] * bs) / wavenumber(n + 1, L)
     return side * B * total
 
 
@@ -284,8 +285,8 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
     need = 2 * N + 3 * pad.quad.shape[1]
     ws = stack_empty(STACK_SCRATCH) if need <= STACK_SCRATCH else np.empty(need)
     for n in range(N):
-        ws[n] = np.sin((n + 1) * np.pi / L * x0)
-        ws[N + n] = np.cos((n + 1) * np.pi / L * x0)
+        ws[n] = np.sin(wavenumber(n + 1, L) * x0)
+        ws[N + n] = np.cos(wavenumber(n + 1, L) * x0)
     total = 0.0
     for side in (1.0, -1.0):
         if side < 0.0 and f.sides != 2:
@@ -362,7 +363,7 @@ def modal_force(q, q_dot, x0, V_r, *, mu, clearance, pad_length, width, rod_leng
     q_dot = np.ascontiguousarray(q_dot, dtype=float)
     film, view = _film_view(mu, clearance, pad_length, squeeze, nodes, cavitation, p_cav, grid_points)
     pad = pad_tables(q.shape[0], rod_length, film)
-    beta = np.arange(1, q.shape[0] + 1) * np.pi / rod_length
+    beta = wavenumbers(q.shape[0], rod_length)
     F, total = _modal_force_kernel(q, q_dot, float(x0), float(V_r), view, float(width), pad, float(rod_length))
     xi_min = float(np.min(0.5 * clearance - np.sin(np.outer(x0 + pad.quad[0], beta)) @ q))
     return F, total, xi_min

@@ -32,6 +32,7 @@ from .force import film_nodes
 from .reynolds import COS, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE_SQUEEZE, pad_start, pressure_gradient, \
     reynolds_constant
 from .width import ONE_D
+from ..beam import wavenumber
 
 __all__ = ["has_film_jacobian", "modal_film_jacobian", "squeeze_rate"]
 
@@ -101,7 +102,7 @@ def _film_side_jacobian(side, q, q_dot, ws, L, V_r, f, B, pad, Jq, Jv):
     s_tab = np.empty((N, nodes))  # s_m(X_j)
     W_tab = np.empty((N, nodes))  # W_m(X_j)
     for m in range(N):
-        beta = (m + 1) * np.pi / L
+        beta = wavenumber(m + 1, L)
         for j in range(nodes):
             s_tab[m, j] = ws[m] * pad.trig[COS, m, j] + ws[N + m] * pad.trig[SIN, m, j]
             W_tab[m, j] = (ws[N + m] * pad.trig[VERS, m, j] + ws[m] * pad.trig[SIN, m, j]) / beta
@@ -146,8 +147,8 @@ def modal_film_jacobian(q, q_dot, x_star, V_r, f, B, pad, L, Jq, Jv):
     N = q.shape[0]
     ws = np.empty(2 * N + 3 * pad.quad.shape[1])
     for n in range(N):
-        ws[n] = np.sin((n + 1) * np.pi / L * x0)
-        ws[N + n] = np.cos((n + 1) * np.pi / L * x0)
+        ws[n] = np.sin(wavenumber(n + 1, L) * x0)
+        ws[N + n] = np.cos(wavenumber(n + 1, L) * x0)
     for side in (1.0, -1.0):
         if side < 0.0 and f.sides != 2:
             break

@@ -15,6 +15,7 @@ from ..params import CHOICES
 from .force import _film_view, _tables, gauss_legendre, integration_matrix
 from .reynolds import (HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, effective_film, pad_start, pressure_gradient,
                        reynolds_cavitation, reynolds_constant)
+from ..beam import wavenumber, wavenumbers
 
 __all__ = ["pressure_on_breaks", "pad_pressure_many", "pressure", "pad_pressure", "pressure_points", "film_thickness",
            "mode_film", "mode_film_rate"]
@@ -97,8 +98,8 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
     for i in range(T):
         x0 = pad_start(x_star[i], f.pad_length, f.pad_reference)
         for m in range(N):
-            s0[m] = np.sin((m + 1) * np.pi / L * x0)
-            c0[m] = np.cos((m + 1) * np.pi / L * x0)
+            s0[m] = np.sin(wavenumber(m + 1, L) * x0)
+            c0[m] = np.cos(wavenumber(m + 1, L) * x0)
         xi[:] = 0.5 * f.clearance
         add_deflection(q[i], s0, c0, sin_p, cos_p, -side, xi)
         for k in range(n_pts):
@@ -157,20 +158,20 @@ def film_thickness(q, x, clearance, rod_length):
     ``q``); returns shape ``(..., M)``.
     """
     q = np.asarray(q, dtype=float)
-    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
+    beta = wavenumbers(q.shape[-1], rod_length)
     u2 = np.sum(q[..., None, :] * np.sin(np.asarray(x)[..., None] * beta), axis=-1)
     return 0.5 * clearance - u2
 
 
 def mode_film(q, x0, clearance, rod_length):
     """The one-sided film ``xi(X) = H/2 - u2(x0 + X)`` of modal state ``q`` as a function [m]."""
-    beta = np.arange(1, q.shape[-1] + 1) * np.pi / rod_length
+    beta = wavenumbers(q.shape[-1], rod_length)
     return lambda X: 0.5 * clearance - np.sin(np.multiply.outer(x0 + np.asarray(X), beta)) @ q
 
 
 def mode_film_rate(q_dot, x0, rod_length):
     """``d xi/dt = -u2_dot(x0 + X)`` at fixed link points, as a function [m/s]."""
-    beta = np.arange(1, q_dot.shape[-1] + 1) * np.pi / rod_length
+    beta = wavenumbers(q_dot.shape[-1], rod_length)
     return lambda X: -(np.sin(np.multiply.outer(x0 + np.asarray(X), beta)) @ q_dot)
 
 
@@ -280,7 +281,7 @@ def pressure(X, xi, V_r, mu, *, xi_t=None, pad_length=None, cavitation="none", p
 
 def pressure_points(X, modes, rod_length, nodes=8, grid_points=0):
     """Tables for :func:`pad_pressure_many`: ``(w, Sm, sin_p, cos_p, sin_g, cos_g)`` for pad points ``X``."""
-    beta = np.arange(1, modes + 1) * np.pi / rod_length
+    beta = wavenumbers(modes, rod_length)
     s, w = gauss_legendre(nodes)
     if grid_points:  # Reynolds: the film at the cell midpoints, its rate at the grid points
         grid = np.linspace(0.0, X[-1], grid_points)

@@ -34,6 +34,7 @@ import numpy as np
 from .._jit import jitable, kernel
 from ..params import CHOICES
 from .reynolds import COS, SIN, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, grid_modal_force, pad_start
+from ..beam import wavenumber
 
 __all__ = ["ONE_D", "TWO_D", "SHORT", "width_film", "width_pressure", "centre_pressure_many", "width_sines"]
 
@@ -227,8 +228,8 @@ def centre_pressure_many(X, q, q_dot, x_star, V_r, side, f, B, L, grid_trig, zsi
     for i in range(T):
         x0 = pad_start(x_star[i], f.pad_length, f.pad_reference)
         for m in range(N):
-            s0[m] = np.sin((m + 1) * np.pi / L * x0)
-            c0[m] = np.cos((m + 1) * np.pi / L * x0)
+            s0[m] = np.sin(wavenumber(m + 1, L) * x0)
+            c0[m] = np.cos(wavenumber(m + 1, L) * x0)
         film_on_grid(side, q[i], q_dot[i], s0, c0, f, grid_trig, xi_mid, xi_t)
         width_film(grid, xi_mid, xi_t, V_r[i], f.viscosity, B, f.reynolds, f.width_modes, f.cavitation,
                    f.cavitation_pressure - f.ambient_pressure, zsin, P, pc)
