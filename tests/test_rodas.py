@@ -135,3 +135,56 @@ def test_event_located_on_the_dense_output():
                     np.zeros(0), rtol=1e-8, atol=1e-10, event_sign=-1)
     assert seg.status == "event"
     assert abs(seg.t_final - np.pi / 3) < 1e-7
+
+
+@kernel
+def oscillators(t, y, out, p):
+    """``q'' = -K q - C q'`` (``p = [K, C]``, ``N x N`` each) as ``y = [q, q']``, with its Jacobian on request."""
+    N = y.shape[0] // 2
+    n = 2 * N
+    for i in range(N):
+        out[i] = y[N + i]
+        acc = 0.0
+        for j in range(N):
+            acc -= p[0, i, j] * y[j] + p[1, i, j] * y[N + j]
+        out[N + i] = acc
+    if out.shape[0] > n:
+        for i in range(n * n):
+            out[n + i] = 0.0
+        for i in range(N):
+            out[n + i * n + N + i] = 1.0
+            for j in range(N):
+                out[n + (N + i) * n + j] = -p[0, i, j]
+                out[n + (N + i) * n + N + j] = -p[1, i, j]
+
+
+def test_the_second_order_form_is_solved_through_half_the_unknowns():
+    """``[q, q']`` with an exact Jacobian ``[[0, I], [-K, -C]]``: the step solves an ``N x N`` system
+    (``c^2 I + c C + K``). Against the matrix exponential, with a stiff damping (1e6 1/s) coupling
+    all; and on a non-stiff variant against the full ``2N`` solve (the Jacobian by differences)."""
+    from lubelink.integrate.rodas import _second_order
+
+    rng = np.random.default_rng(5)
+    N = 4
+    Q, _ = np.linalg.qr(rng.standard_normal((N, N)))
+    K = Q @ np.diag([1.0, 30.0, 400.0, 2500.0]) @ Q.T
+    y0 = np.r_[rng.standard_normal(N), np.zeros(N)]
+    t_eval = np.linspace(0.05, 1.0, 20)
+    for damping in (1e6, 1e2):
+        C = damping * np.outer(Q[:, 0], Q[:, 0]) + 0.1 * np.eye(N)
+        p = np.ascontiguousarray(np.stack([K, C]))
+        M = np.block([[np.zeros((N, N)), np.eye(N)], [-K, -C]])
+        assert _second_order(M)
+        runs = {}
+        for jacobian in (True, False):
+            seg = integrate(method("rodas"), oscillators, level, p, 0.0, y0, 1.0, t_eval, rtol=1e-6, atol=1e-9,
+                            options={"jacobian": jacobian})
+            assert seg.status == "finished"
+            err = max(np.abs(y - expm(M * t) @ y0).max() for t, y in zip(seg.t, seg.y))
+            assert err < 300 * 1e-6, (damping, jacobian, err)  # as tests/test_integrate.py
+            runs[jacobian] = seg
+        if damping < 1e3:  # differences are accurate here: the same solution within the tolerance
+            assert abs(runs[True].nsteps - runs[False].nsteps) <= 2
+            scale = np.abs(runs[False].y).max()
+            assert np.abs(runs[True].y - runs[False].y).max() < 2e-6 * scale  # (measured 3.6e-7)
+    assert not _second_order(_stiff_matrix())
