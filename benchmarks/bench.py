@@ -87,7 +87,10 @@ import numpy as np
 import lubelink
 from lubelink.config import resolve
 from lubelink.model import gap, rhs
-from lubelink.build import build_model
+try:
+    from lubelink.build import build_model
+except ImportError:  # a checkout before lubelink.build
+    from lubelink.model import build_model
 try:
     from lubelink.spatial_model import spatial_gap, spatial_rhs
 except ImportError:  # a checkout without the spatial model

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import pickle
 import warnings
 from functools import lru_cache
 from pathlib import Path
@@ -225,3 +226,29 @@ def _install_locators():
     impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
     if impl is not None and len(locators) == 3:
         impl._locator_classes = locators + [c for c in impl._locator_classes if c not in locators]
+    _tolerate_foreign_indexes(caching)
+
+
+def _tolerate_foreign_indexes(caching):
+    """Read an on-disk cache index of lubelink's that this version cannot unpickle as stale.
+
+    An index written by another version of lubelink (with the same Numba) can name classes that
+    moved or went (the parameter views lived in ``lubelink.params`` in version 0.1); Numba
+    unpickles it before it compares the stamp, and would raise. For lubelink's own index files
+    (their path names the package) the error means "not this version's": nothing is cached.
+    """
+    cls = getattr(caching, "IndexDataCacheFile", None)
+    original = getattr(cls, "_load_index", None)
+    if original is None or getattr(original, "lubelink", False):
+        return
+
+    def _load_index(self):
+        try:
+            return original(self)
+        except (AttributeError, ImportError, pickle.UnpicklingError, EOFError, TypeError):
+            if "lubelink" not in str(getattr(self, "_index_path", "")):
+                raise
+            return {}
+
+    _load_index.lubelink = True
+    cls._load_index = _load_index

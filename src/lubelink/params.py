@@ -464,13 +464,3 @@ def sample_times(solver):
     """The output times ``0, output_step, ...`` up to ``t_end`` [s] (the last one kept when it rounds up)."""
     n_out = int(np.floor(solver.t_end / solver.output_step * (1 + 1e-12))) + 1
     return np.minimum(np.arange(n_out) * solver.output_step, solver.t_end)
-
-
-def __getattr__(name):
-    """The compiled-code views, now in :mod:`lubelink.views`, by their old names here: Numba's on-disk
-    cache indexes written by earlier versions name them so, and must unpickle to be found stale."""
-    from . import views
-
-    if name in views.__all__:
-        return getattr(views, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
