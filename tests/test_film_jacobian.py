@@ -130,4 +130,41 @@ def test_what_the_analytic_jacobian_does_not_cover_is_named():
         assert words in has_film_jacobian(cfg.film)
         assert words in build_model(cfg).jacobian_missing(None)
     assert "spatial" in build_model(resolve("spatial-slider-crank")).jacobian_missing(None)
-    assert "contact" in build_model(resolve("lubricated")).jacobian_missing((1.0, 0.1))
+    assert "sustained contact" in build_model(resolve("lubricated")).jacobian_missing((1.0, 0.1))
+    assert build_model(resolve("lubricated", {"contact.law": "compliant"})).jacobian_missing((1.0, 0.1)) == ""
+
+
+@pytest.mark.parametrize("v_minus", [0.05, 0.0], ids=["damped", "grazing"])
+def test_compliant_contact_jacobian_in_a_contact_phase(v_minus):
+    """The link pressed 1 um into the collar face: the right-hand side's Jacobian in the compliant
+    contact phase (Lankarani-Nikravesh at the thinnest-film point) against its own differences."""
+    cfg = resolve("lubricated", {"film.clearance": 1e-4, "beam.modes": 3, "contact.law": "compliant"})
+    model = build_model(cfg)
+    t = 0.37
+    x_star, V_r = model.kinematics(t)[3], model.kinematics(t)[4]
+    L, l = cfg.mechanism.rod_length, cfg.film.pad_length
+    x = np.linspace(x_star, x_star + l, 201)
+    q = np.array([1.0, 0.02, -0.01])
+    q *= (0.5 * cfg.film.clearance - cfg.contact.min_film + 1e-6) / np.max(np.sin(np.outer(x, [1, 2, 3]) * np.pi / L) @ q)
+    y = np.r_[q, 0.01, -0.02, 0.005]
+    p = model.with_phase((1.0, v_minus, 0.0))
+    n = y.size
+    out = np.empty(n + n * n)
+    rhs(t, y, out, p)
+
+    def g(z):
+        d = np.empty(n)
+        rhs(t, z, d, p)
+        return d
+
+    J = out[n:].reshape(n, n)
+    J_fd = _fd(g, y, np.r_[np.full(3, 1e-11), np.full(3, 1e-7)])
+    assert np.abs(J[3:, :3] - _fd(lambda z: plain_rhs(model.params, t, z), y, np.r_[np.full(3, 1e-11),
+                  np.full(3, 1e-7)])[3:, :3]).max() > 1e3  # the contact adds stiffness
+    np.testing.assert_allclose(J, J_fd, rtol=0, atol=1e-6 * np.abs(J_fd).max())
+
+
+def plain_rhs(p, t, z):
+    d = np.empty(z.size)
+    rhs(t, z, d, p)
+    return d

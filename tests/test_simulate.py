@@ -353,3 +353,23 @@ def test_the_stiff_film_agrees_across_three_methods_and_auto_says_why():
     assert auto.attrs["nfev"] < 0.05 * other.attrs["nfev"]  # the exponential method's steps follow the film
     fd = run(resolve("lubricated", {**base, "film.cavitation": "reynolds"}))
     assert "Jacobian by finite differences: film.cavitation = 'reynolds'" in fd.method_note
+
+
+def test_film_results_converge_in_modes_at_a_real_clearance():
+    """docs/model.md 7.5 on a short interval: at 20 um the thinnest film and the deflection at the
+    collar change less and less as modes are added (3, 7, 15 against 31)."""
+    base = {"film.clearance": 2e-5, "contact.law": "compliant", "solver.t_end": 0.05, "output.x_points": 11,
+            "output.pad_points": 5}
+    runs = {n: lubelink.simulate("lubricated", set={**base, "beam.modes": n}) for n in (3, 7, 15, 31)}
+    L = float(runs[3].x.values[-1])
+
+    def collar(ds):
+        n = ds["mode"].values
+        return np.sum(ds.q.values * np.sin(np.outer(ds.x_star.values, n) * np.pi / L), axis=1)
+
+    ref = runs[31]
+    film = [float(np.abs(runs[n].film_min - ref.film_min).max()) for n in (3, 7, 15)]
+    u = [float(np.abs(collar(runs[n]) - collar(ref)).max()) for n in (3, 7, 15)]
+    assert film[0] > film[1] > film[2] and u[0] > u[1] > u[2], (film, u)
+    assert film[2] < 0.5e-6 and u[2] < 0.5e-6  # 15 modes against 31 (measured 0.2 um of film at 20 um)
+    assert film[0] > 10 * film[2]  # 3 modes are far off at 20 um (docs/model.md 7.5: 2.6 um over 1 s)

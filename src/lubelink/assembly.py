@@ -211,8 +211,8 @@ class Model:
             return "a motion given as Python functions on the numpy backend"
         if not self.uniform:
             return "a variable section (eigen-coordinates)"
-        if phase is not None and self.config.contact.law != "none":
-            return "a contact phase (the contact force's Jacobian is not written yet)"
+        if phase is not None and self.config.contact.law == "restitution":
+            return "a sustained contact (its constraint force's Jacobian is not written yet)"
         return has_film_jacobian(self.config.film)
 
     def functions(self):

@@ -131,6 +131,16 @@ def asperity_term(rough, q, x_star, p, width, F):
     asperity.modal_asperity_force(q, x_star, p.film, width, p.pad, p.basis.rod_length, F)
 
 
+@jitable
+def _compliant_jacobian_term(phase, q, q_dot, x_star, V_r, p, Jq, Jv):
+    """Add the compliant contact's Jacobian of ``phase`` (None: no compliant law, compiles to nothing)."""
+    if phase is None:
+        return
+    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
+    contact.compliant_jacobian(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
+                               phase.v_minus, Jq, Jv)
+
+
 @jitable(inline=True)
 def rhs_given(t, kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
@@ -273,11 +283,12 @@ def event_with(t, kin, A_r, y, p):
 def jacobian_given(t, kin, y, J, p):
     """``J = d(dy/dt)/dy`` ``(2N, 2N)`` of :func:`rhs_given` for the rigid motion ``kin`` at ``t``.
 
-    The uniform planar link (no eigenbasis) outside a contact phase, with the film of
+    The uniform planar link (no eigenbasis) outside a sustained contact, with the film of
     :func:`~lubelink.film.jacobian.has_film_jacobian`: ``dq/dt = q_dot`` gives the identity block;
     the modal oscillators ``-(omega_n^2 - omega^2)`` and ``-2 zeta omega_n`` on the diagonals;
     the film (:func:`~lubelink.film.jacobian.modal_film_jacobian`) and the asperity contact
-    (:func:`~lubelink.film.asperity.modal_asperity_jacobian`) divided by the modal mass. The joint
+    (:func:`~lubelink.film.asperity.modal_asperity_jacobian`) and the compliant contact of a contact
+    phase (:func:`~lubelink.contact.compliant_jacobian`) divided by the modal mass. The joint
     reaction, gravity and the rigid-motion load do not depend on the state.
     """
     omega, x_star, V_r = kin[1], kin[3], kin[4]
@@ -295,6 +306,8 @@ def jacobian_given(t, kin, y, J, p):
             Jv *= -1.0
     if p.film.roughness > 0.0 and p.rough is not None:
         asperity.modal_asperity_jacobian(q, x_star, p.film, p.beam.width, p.pad, L, Jq)
+    if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
+        _compliant_jacobian_term(p.phase, q, q_dot, x_star, V_r, p, Jq, Jv)
     Jq /= p.basis.modal_mass
     Jv /= p.basis.modal_mass
     stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED

@@ -199,7 +199,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         if stiff:
             options["jacobian"] = not model.jacobian_missing(phase)
             if not options["jacobian"] and "finite differences" not in note:
-                note += f"; by finite differences in contact phases ({model.jacobian_missing(phase)})"
+                note += f"; by finite differences in {model.jacobian_missing(phase)}"
         try:
             seg = integrate.integrate(method, *model.functions(), model.with_phase(phase), t, y, s.t_end,
                                       t_eval[t_eval > t], rtol=s.rtol, atol=s.atol, max_step=s.max_step,

@@ -31,8 +31,7 @@ import math
 import numpy as np
 
 from ._jit import jitable
-from .beam import rigid_load
-from .beam import wavenumbers
+from .beam import rigid_load, wavenumbers
 
 __all__ = ["frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations", "deflections"]
 

@@ -10,12 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jitable, kernel
-from ..beam import add_deflection
+from ..beam import add_deflection, wavenumber, wavenumbers
 from ..params import CHOICES
 from .force import _film_view, _tables, gauss_legendre, integration_matrix
 from .reynolds import (HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, effective_film, pad_start, pressure_gradient,
                        reynolds_cavitation, reynolds_constant)
-from ..beam import wavenumber, wavenumbers
 
 __all__ = ["pressure_on_breaks", "pad_pressure_many", "pressure", "pad_pressure", "pressure_points", "film_thickness",
            "mode_film", "mode_film_rate"]
