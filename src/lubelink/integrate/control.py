@@ -10,9 +10,10 @@ import math
 import numpy as np
 
 from lubelink._jit import jitable
-from ._layout import F_DIR, F_MAXSTEP, F_T, F_TEND, R_ATOL, R_F, R_RTOL, R_Y, S_NFEV
+from ._layout import F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, R_ATOL, R_F, R_RTOL, R_Y, S_NFEV
 
-__all__ = ["scaled_rms", "step_factor", "initial_step", "min_step", "step_end", "SAFETY", "MIN_FACTOR", "MAX_FACTOR"]
+__all__ = ["scaled_rms", "step_factor", "initial_step", "min_step", "step_end", "accept_step", "SAFETY", "MIN_FACTOR",
+           "MAX_FACTOR"]
 
 EPS = np.finfo(float).eps
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
@@ -59,6 +60,15 @@ def step_end(fst, t, h_abs):
     if fst[F_DIR] * (t_new - fst[F_TEND]) > 0.0:
         t_new = fst[F_TEND]
     return t_new
+
+
+@jitable
+def accept_step(fst, t, t_new, h_abs):
+    """Record an accepted step from ``t`` to ``t_new`` and the size ``h_abs`` of the next one to try."""
+    fst[F_TOLD] = t
+    fst[F_HSTEP] = t_new - t
+    fst[F_T] = t_new
+    fst[F_H] = h_abs
 
 
 @jitable

@@ -15,7 +15,7 @@ import numpy as np
 from lubelink._jit import jitable, kernel
 from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_FOLD, R_METHOD,
                       R_RTOL, R_Y, R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
-from .control import MAX_FACTOR, MIN_FACTOR, SAFETY, initial_step, min_step, step_end
+from .control import MAX_FACTOR, MIN_FACTOR, SAFETY, accept_step, initial_step, min_step, step_end
 
 __all__ = ["init", "step", "dense", "rows", "ORDER"]
 
@@ -153,10 +153,7 @@ def step(rhs, p, W, fst, ist):
         W[R_FOLD, m] = f[m]
         y[m] = W[R_YNEW, m]
         f[m] = W[R_K + 12, m]
-    fst[F_TOLD] = t
-    fst[F_HSTEP] = h
-    fst[F_T] = t_new
-    fst[F_H] = h_abs
+    accept_step(fst, t, t_new, h_abs)
     ist[S_DENSE] = 0
     return True
 

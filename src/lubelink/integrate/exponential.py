@@ -47,9 +47,9 @@ The phi-functions of the 2x2 blocks are those of :mod:`.phi`.
 import numpy as np
 
 from lubelink._jit import jitable, kernel
-from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_METHOD, F_T, F_TOLD, FAIL_RHS, R_F, R_METHOD, R_Y,
+from ._layout import (F_DIR, F_H, F_MAXSTEP, F_METHOD, F_T, FAIL_RHS, R_F, R_METHOD, R_Y,
                       R_YOLD, S_DENSE, S_FAIL, S_NFEV, S_NREJ)
-from .control import MIN_FACTOR, initial_step, min_step, scaled_rms, step_end, step_factor
+from .control import MIN_FACTOR, accept_step, initial_step, min_step, scaled_rms, step_end, step_factor
 from .phi import phi_block
 
 __all__ = ["init", "step", "rows", "setup"]
@@ -414,9 +414,6 @@ def accept(W, fst, ist, t, t_new, h_abs):
         W[R_YOLD, m] = W[R_Y, m]
         W[R_Y, m] = W[R_YNEW, m]
         W[R_G, m] = W[R_GNEW, m]
-    fst[F_TOLD] = t
-    fst[F_HSTEP] = t_new - t
-    fst[F_T] = t_new
-    fst[F_H] = h_abs
+    accept_step(fst, t, t_new, h_abs)
     fst[F_PART] = 0.0
     ist[S_DENSE] = 1

@@ -31,7 +31,7 @@ import numpy as np
 from lubelink._jit import jitable, kernel
 from ._layout import (F_DIR, F_H, F_HSTEP, F_MAXSTEP, F_T, F_TOLD, FAIL_RHS, R_ATOL, R_F, R_METHOD, R_RTOL, R_Y,
                       R_YOLD, S_DENSE, S_FAIL, S_METHOD, S_NFEV, S_NREJ)
-from .control import EPS, MIN_FACTOR, initial_step, min_step, step_end, step_factor
+from .control import EPS, MIN_FACTOR, accept_step, initial_step, min_step, step_end, step_factor
 
 __all__ = ["init", "step", "dense", "rows", "setup", "lu_factor", "lu_solve", "ORDER", "INTS"]
 
@@ -338,10 +338,7 @@ def step(rhs, p, W, fst, ist):
     if ist[S_JAC] == 0:  # the next step's first stage (with the problem's Jacobian, it comes with J)
         rhs(t_new, y, f, p)
         ist[S_NFEV] += 1
-    fst[F_TOLD] = t
-    fst[F_HSTEP] = h
-    fst[F_T] = t_new
-    fst[F_H] = h_abs
+    accept_step(fst, t, t_new, h_abs)
     ist[S_DENSE] = 1
     return True
 
