@@ -16,7 +16,7 @@ from functools import cached_property
 
 import numpy as np
 
-from . import _jit, beam, contact, film, section
+from . import _jit, beam, compliant, contact, film, section
 from .errors import BackendError
 from .film.jacobian import has_film_jacobian
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
@@ -315,7 +315,7 @@ class Model:
         p = self.params
         x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
         y = np.ascontiguousarray(y, dtype=float)
-        force = contact.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
+        force = compliant.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
                                         p.basis.rod_length, float(phase[0]), float(phase[1]), F)
         return F, float(force)
 

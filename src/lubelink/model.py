@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import beam, contact, film, section
+from . import beam, compliant, contact, film, section
 from .film import asperity
 from .film import jacobian as film_jacobian
 from ._jit import jitable, kernel
@@ -118,7 +118,7 @@ def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
     if phase is None:
         return
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-    contact.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
+    compliant.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
                             phase.v_minus, F)
 
 
@@ -137,7 +137,7 @@ def _compliant_jacobian_term(phase, q, q_dot, x_star, V_r, p, Jq, Jv):
     if phase is None:
         return
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-    contact.compliant_jacobian(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
+    compliant.compliant_jacobian(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
                                phase.v_minus, Jq, Jv)
 
 
@@ -288,7 +288,7 @@ def jacobian_given(t, kin, y, J, p):
     the modal oscillators ``-(omega_n^2 - omega^2)`` and ``-2 zeta omega_n`` on the diagonals;
     the film (:func:`~lubelink.film.jacobian.modal_film_jacobian`) and the asperity contact
     (:func:`~lubelink.film.asperity.modal_asperity_jacobian`) and the compliant contact of a contact
-    phase (:func:`~lubelink.contact.compliant_jacobian`) divided by the modal mass. The joint
+    phase (:func:`~lubelink.compliant.compliant_jacobian`) divided by the modal mass. The joint
     reaction, gravity and the rigid-motion load do not depend on the state.
     """
     omega, x_star, V_r = kin[1], kin[3], kin[4]
