@@ -170,3 +170,27 @@ def test_cli_periodic_writes_a_loadable_file(tmp_path, capsys):
     assert ds.attrs["stable"] == 1 and ds.attrs["period"] == pytest.approx(0.2)
     assert main(["periodic", "--scenario", "paper-dry", "-o", str(out)]) == 2  # exists: never replaced
     assert "--overwrite" in capsys.readouterr().err
+
+
+def test_the_monodromy_from_the_models_jacobian_equals_the_differences():
+    """The variational equations with the right-hand side's own Jacobian (one evaluation) and with
+    central differences (2n + 1): the same flow and monodromy matrix over a crank period, squeeze
+    film with half-Sommerfeld cavitation and asperities, 2 modes."""
+    from lubelink.build import build_model
+    from lubelink.steady.problem import _fast_rhs
+    from lubelink.steady.variational import flow_with_jacobian
+
+    cfg = resolve("lubricated", {"beam.modes": 2, "film.clearance": 1e-3})
+    model = build_model(cfg)
+    assert model.jacobian_missing(None) == ""
+    T = crank_period(cfg)
+    y0 = np.array([1e-4, -2e-5, 0.01, 0.0])
+    scale = np.array([1e-3, 1e-3, 0.1, 0.1])
+    out = {}
+    for jacobian in (True, False):
+        out[jacobian] = flow_with_jacobian(_fast_rhs(model), model.params, 0.0, y0, T, scale, rtol=1e-10,
+                                           atol=1e-13, jacobian=jacobian)
+    np.testing.assert_allclose(out[True][0], out[False][0], rtol=0, atol=1e-11)
+    M, M_fd = out[True][1], out[False][1]
+    assert np.abs(M).max() > 0.1
+    np.testing.assert_allclose(M, M_fd, rtol=0, atol=1e-6 * np.abs(M).max())

@@ -155,7 +155,8 @@ class PeriodMap:
         s = self.config.solver
         try:
             _, M, _ = flow_with_jacobian(self._rhs, self.model.with_phase(None), 0.0, self.model.to_state(y0),
-                                         self.period, self.scale(), rtol=s.rtol, atol=s.atol)  # eta ~ q in size
+                                         self.period, self.scale(), rtol=s.rtol, atol=s.atol,  # eta ~ q in size
+                                         jacobian=not self.model.jacobian_missing(None))
         except RuntimeError as exc:
             raise MapFailure(str(exc)) from None
         if not self.model.uniform:  # the integrator's eigen-coordinates -> the sine modes of the map
