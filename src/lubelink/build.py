@@ -34,7 +34,7 @@ def build_model(config: Config, motion=None, section=None) -> Model:
         ``solver.backend = "numba"`` for a configuration the compiled path cannot run.
     """
     if config.beam.model == "spatial":
-        from .spatial_model import build_spatial_model  # (its kernels compile on first use)
+        from .spatial_model import build_spatial_model
 
         return build_spatial_model(config, motion, section)
     if motion is None:

@@ -144,7 +144,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     progress : callable, optional
         ``progress(t)`` as the integration advances.
     model : Model, optional
-        An assembled model of ``config`` (default: :func:`~lubelink.assembly.build_model`).
+        An assembled model of ``config`` (default: :func:`~lubelink.build.build_model`).
     y0 : array_like, shape ``(2N,)``, optional
         State ``[q, q_dot]`` at t = 0 [m, m/s] (default: zero, the paper's). It must not lie
         inside a contact (thinnest film below ``contact.min_film``).

@@ -73,11 +73,9 @@ R_H1 = R_H0 + 1
 R_PIV = R_H1 + 1  # the pivots of the LU factorisation (as floats)
 R_FJ = R_PIV + 1  # f with the analytic Jacobian: this row and the n of J are the problem's out
 R_JAC = R_FJ + 1  # J: n rows
-S_NJAC = S_METHOD  # Jacobians formed
-S_NLU = S_METHOD + 1  # LU factorisations
-S_JAC = S_METHOD + 2  # 1: the problem gives its Jacobian
-S_SECOND = S_METHOD + 3  # 1: the Jacobian of this step has the second-order form (see _second_order)
-INTS = S_METHOD + 4
+S_JAC = S_METHOD  # 1: the problem gives its Jacobian
+S_SECOND = S_METHOD + 1  # 1: the Jacobian of this step has the second-order form (see _second_order)
+INTS = S_METHOD + 2
 
 
 def rows(n):
@@ -287,7 +285,6 @@ def step(rhs, p, W, fst, ist):
     if h_abs < smallest:
         h_abs = smallest
     _jacobian(rhs, p, W, ist, t, y, f)
-    ist[S_NJAC] += 1
     ist[S_SECOND] = 1 if ist[S_JAC] != 0 and _second_order(J) else 0
     rejected = False
     while True:
@@ -296,7 +293,6 @@ def step(rhs, p, W, fst, ist):
         t_new = step_end(fst, t, h_abs)
         h = t_new - t
         h_abs = abs(h)
-        ist[S_NLU] += 1
         if not _factor(W, ist, J, LU, 1.0 / (h * GAMMA)):
             h_abs *= 0.5
             rejected = True
