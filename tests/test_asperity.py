@@ -139,7 +139,8 @@ def mixed_run():
 
 
 def _energy_terms(ds, cfg):
-    """Mechanical energy [J] and film power [W] at every sample, from the state, the pressure and closed forms.
+    """Mechanical energy [J], asperity potential [J], film power [W] and gravity's potential [J] at every sample,
+    from the state, the pressure and closed forms.
 
     E = sum_n m/2 (q_dot_n^2 + omega_n^2 q_n^2) - sum_n Q_n q_n + V_a: modal energy with the beam's own
     m = rho A L / 2 and omega_n = beta_n^2 sqrt(EI / rho A), the potential of the uniform load
@@ -168,7 +169,7 @@ def _energy_terms(ds, cfg):
     X = ds.X.values
     u_t = q_dot @ np.sin(np.outer(beta, BALANCE_X_STAR + X))
     power = -b.width * integrate.simpson(ds.pressure.values * u_t, x=X, axis=1)
-    return modal - q @ Q + V_a, V_a, power
+    return modal - q @ Q + V_a, V_a, power, -q @ Q
 
 
 def _residual(t, E, power, every):
@@ -185,7 +186,7 @@ def test_energy_balance_over_a_phase_of_mixed_lubrication(mixed_run):
     film, asp = -ds.film_force.values, -ds.asperity_force.values  # both push the link off the +j face
     share = np.divide(asp, film + asp, out=np.zeros_like(asp), where=film + asp > 0)
     assert share[ds.time.values < 3e-3].max() < 1e-6 and share[-1] > 0.8 and film[-1] > 3.0  # the load changes hands
-    E, V_a, power = _energy_terms(ds, cfg)
+    E, V_a, power, V_g = _energy_terms(ds, cfg)
     t = ds.time.values
     work = integrate.trapezoid(power, t)
     assert work < 0 and np.all(power <= 1e-12 * np.abs(power).max())  # the squeeze film only dissipates
@@ -203,6 +204,15 @@ def test_energy_balance_over_a_phase_of_mixed_lubrication(mixed_run):
     phase = [abs(E[-1] - E[i0] - integrate.trapezoid(power[i0::k], t[i0::k])) / abs(phase_work) for k in (4, 2, 1)]
     print("mixed phase from", t[i0], "s: relative residual", phase)
     assert phase_work < 0 and max(phase) < 2e-7
+    # the results' energy budget (lubelink.energy: powers of the modal forces, Simpson's rule) against
+    # these closed forms: the vibration energy is E - V_a + q.Q; gravity's work minus the change of its
+    # potential -q.Q, the asperities' minus that of V_a, the film's the pressure's power integrated here
+    scale = abs(work)
+    assert np.abs(ds.energy.values - (E - V_a - V_g)).max() < 1e-12 * scale
+    assert np.abs(ds.work_rigid.values + (V_g - V_g[0])).max() < 1e-6 * scale
+    assert np.abs(ds.work_asperity.values + (V_a - V_a[0])).max() < 1e-6 * scale
+    assert np.abs(ds.work_film.values - integrate.cumulative_trapezoid(power, t, initial=0.0)).max() < 1e-4 * scale
+    assert ds.attrs["energy_residual_relative"] < 1e-5  # Simpson; the trapezoid above: 7e-6 of the work
     # it can fail: without the film's loss, or with the asperity force treated as non-conservative
     assert abs(E[-1] - E[0]) > 1e4 * worst[2] * abs(work)
     assert abs(V_a[-1] - V_a[0]) > 100 * worst[2] * abs(work)

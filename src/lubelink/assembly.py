@@ -20,8 +20,8 @@ from . import _jit, beam, compliant, contact, film, section
 from .errors import BackendError
 from .film.jacobian import has_film_jacobian
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
-from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, event_with, gap, in_sustained, rhs,
-                    rhs_with, sustained_force_many, sustained_given, thinnest_given)
+from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, contact_position, event_with, gap,
+                    in_sustained, rhs, rhs_with, sustained_force_many, sustained_given, thinnest_given)
 from .params import Config
 from .views import kernel_view
 
@@ -296,6 +296,18 @@ class Model:
                        else self.motion.collar_acceleration(t[i]))
                 out[i] = sustained_given(t[i], kin, A_r, y[i], d, p, sides[i], points[i])
         return out
+
+    def contact_loads(self, t, y, phase):
+        """Modal force [N] of the contact in ``phase`` ``(side, v_minus, point)`` at ``(t, y)``: the compliant
+        force, or the constraint force of a sustained contact (:class:`ContactPhase`)."""
+        if self.config.contact.law == "compliant":
+            return self.contact_force(t, y, phase[:2])[0]
+        side, _, point = phase
+        force = float(self.sustained_force(t, y, side, point)[0])
+        x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
+        x_c = contact_position(point, x0, self.config.film.pad_length)
+        L = self.config.mechanism.rod_length
+        return -side * force * np.sin(beam.wavenumbers(self.modes, L) * x_c)
 
     def film_loads(self, t, y):
         """Modal film forces [N] and the resultant film force along +j [N]."""

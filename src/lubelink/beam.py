@@ -262,10 +262,11 @@ def curvature(q, x, rod_length):
     return -(q @ (beta**2 * np.sin(bx)).T)
 
 
+@jitable
 def modal_energy(q, q_dot, omega_n, mass):
-    """Elastic plus kinetic energy of the modes in the link frame [J].
+    """Elastic plus kinetic energy of the modes in the link frame [J] (the energy budget's, :mod:`lubelink.energy`).
 
-    ``m/2 sum (q_dot_n^2 + omega_n^2 q_n^2)`` with ``m = rho A L / 2``.
+    ``m/2 sum (q_dot_n^2 + omega_n^2 q_n^2)`` with ``m = rho A L / 2``; over the last axis.
     """
     return 0.5 * mass * np.sum(np.asarray(q_dot) ** 2 + (omega_n * np.asarray(q)) ** 2, axis=-1)
 

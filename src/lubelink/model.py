@@ -103,6 +103,16 @@ def contact_point(x_c, at_edge, x0, pad_length):
     return PAD_START if abs(x_c - x0) <= abs(x_c - x0 - pad_length) else PAD_END
 
 
+@jitable
+def contact_position(point, x0, pad_length):
+    """Where on the link [m] the contact of :attr:`ContactPhase.point` ``point`` acts, the pad starting at ``x0`` [m]."""
+    if point == PAD_START:
+        return x0
+    if point == PAD_END:
+        return x0 + pad_length
+    return point
+
+
 # --- the right-hand side ----------------------------------------------------------------------------
 @jitable
 def phase_side(phase):
@@ -144,7 +154,7 @@ def _compliant_jacobian_term(phase, q, q_dot, x_star, V_r, p, Jq, Jv):
 @jitable(inline=True)
 def rhs_given(t, kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
-    A_O2, omega, alpha, x_star, V_r, reaction, angle, v_O1 = kin
+    _, omega, alpha, x_star, V_r, reaction, _, _ = kin
     N = p.basis.modes
     L = p.basis.rod_length
     yq = section.physical(p.galerkin, y)  # the sine-mode state (y itself for a uniform link)
@@ -163,13 +173,8 @@ def rhs_given(t, kin, y, out, p):
             F[n] += beam.point_load(reaction, x_star, wavenumber(n + 1, L))
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         _compliant_term(p.phase, q, q_dot, x_star, V_r, p, F)
-    gX, gY = p.mechanism.gravity
-    A_eff = A_O2
-    if gX != 0.0 or gY != 0.0:  # gravity along the link's j axis
-        A_eff -= -gX * np.sin(angle) + gY * np.cos(angle)
-    if p.model.equations == DOUBLE_COUNT or p.model.equations == PRINTED:
-        A_eff += omega * v_O1
-    stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
+    A_eff = effective_acceleration(kin, p)
+    stiffening = stiffened(p)
     zeta = p.beam.damping_ratio
     if not section.uniform(p.galerkin):
         _eigen_accelerations(p.galerkin, y, F, A_eff, alpha, omega, p.basis, zeta, stiffening, out)
@@ -181,6 +186,26 @@ def rhs_given(t, kin, y, out, p):
             forcing -= 2.0 * omega * omega * y[n]
         out[N + n] = beam.modal_acceleration(y[n], y[N + n], p.basis.omega_n[n], zeta, omega, forcing)
         out[n] = y[N + n]
+
+
+@jitable(inline=True)
+def effective_acceleration(kin, p):
+    """The transverse acceleration of O the modal load sees [m/s^2]: ``A_O2`` minus gravity along the link's
+    ``j`` axis (plus ``omega v_O1`` under the printed equations that count it twice)."""
+    A_O2, omega, angle, v_O1 = kin[0], kin[1], kin[6], kin[7]
+    gX, gY = p.mechanism.gravity
+    A_eff = A_O2
+    if gX != 0.0 or gY != 0.0:  # gravity along the link's j axis
+        A_eff -= -gX * np.sin(angle) + gY * np.cos(angle)
+    if p.model.equations == DOUBLE_COUNT or p.model.equations == PRINTED:
+        A_eff += omega * v_O1
+    return A_eff
+
+
+@jitable(inline=True)
+def stiffened(p):
+    """Whether the printed equations' ``-2 omega^2 q_n`` (Eq. 18's ``+omega^2``) is in the modal equation."""
+    return p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
 
 
 @jitable
@@ -224,11 +249,7 @@ def sustained_on(q, q_dot, acc, x_star, V_r, A_r, p, side, point, rate):
     L = p.basis.rod_length
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     at_edge = point < 0.0
-    x_c = point
-    if point == PAD_START:
-        x_c = x0
-    elif point == PAD_END:
-        x_c = x0 + p.film.pad_length
+    x_c = contact_position(point, x0, p.film.pad_length)
     xi = 0.5 * p.film.clearance - side * deflection_at(q, x_c, L)
     m = p.basis.modal_mass
     lam = contact.constraint_force(q, q_dot, acc, x_c, at_edge, False, side, xi - p.contact.min_film, V_r, A_r,
@@ -310,7 +331,7 @@ def jacobian_given(t, kin, y, J, p):
         _compliant_jacobian_term(p.phase, q, q_dot, x_star, V_r, p, Jq, Jv)
     Jq /= p.basis.modal_mass
     Jv /= p.basis.modal_mass
-    stiffening = p.model.equations == PRINTED_OMEGA2 or p.model.equations == PRINTED
+    stiffening = stiffened(p)
     for n in range(N):
         J[n, N + n] = 1.0
         w = p.basis.omega_n[n]

@@ -100,6 +100,16 @@ VARIABLES = {
     "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
     "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
                                               "face (sustained or compliant contact)"),
+    "energy": Variable(("time",), "J", "vibration energy of the link relative to its rigid motion (kinetic plus strain)"),
+    "work_rigid": Variable(("time",), "J", "work done on the vibration by the rigid motion's inertial loads and gravity"),
+    "work_damping": Variable(("time",), "J", "work of the structural damping (beam.damping_ratio)"),
+    "work_film": Variable(("time",), "J", "work of the film force on the link"),
+    "work_asperity": Variable(("time",), "J", "work of the asperity contact force on the link"),
+    "work_reaction": Variable(("time",), "J", "work of the collar's joint reaction on the link"),
+    "work_contact": Variable(("time",), "J", "work of the contact force (compliant, or a sustained contact's)"),
+    "work_impacts": Variable(("time",), "J", "change of the vibration energy in the restitution impacts so far"),
+    "energy_residual": Variable(("time",), "J", "energy - energy(0) minus the sum of the works: the balance's "
+                                                "residual (integration and sampling error)"),
     "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
     "impact_position": Variable(("impact",), "m", "contact point on the link"),
     "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
@@ -109,6 +119,11 @@ VARIABLES = {
                                               "-1 the film H/2 + u2 (its -j side)"),
     "impact_face": Variable(("impact",), "1", "face pair of the contact (spatial model, film.faces u2+u3): 2 the u2 "
                                               "faces, 3 the u3 faces (impact_side then the film H/2 -+ u3)"),
+    "impact_energy_change": Variable(("impact",), "J", "change of the link's vibration energy in the impact"),
+    "impact_dissipation": Variable(("impact",), "J", "energy lost at the contact point, in the frame of the collar "
+                                                    "face (>= 0)"),
+    "impact_collar_work": Variable(("impact",), "J", "work of the collar's impulse on the link: energy change plus "
+                                                    "dissipation"),
 }
 
 #: Attributes beyond units and long name, by variable: the CF flag attributes of the flag variables.
@@ -355,6 +370,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     data["impact_side"] = _entry("impact_side", np.sign(codes))  # the spatial model's codes +-2: the u3 faces
     if model.params.spatial is not None and fm.faces == "u2+u3":
         data["impact_face"] = _entry("impact_face", 2 + (np.abs(codes) == 2))
+    energy_note, residual, relative = _energy(result, want, t, y, data)
     for name, value in later.items():
         data[name] = _entry(name, value())
     data = {name: data[name] for name in VARIABLES if name in data}
@@ -389,9 +405,44 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         "wall_time": result.wall_time,
         "wall_time_units": "s",
         "contact_warning": warning,
+        "energy_residual_max": residual,
+        "energy_residual_units": "J",
+        "energy_residual_relative": relative,
+        "energy_note": energy_note,
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
+
+
+_ENERGY = ("energy", "work_rigid", "work_damping", "work_film", "work_asperity", "work_reaction", "work_contact",
+           "work_impacts", "energy_residual", "impact_energy_change", "impact_dissipation", "impact_collar_work")
+
+
+def _energy(result, want, t, y, data):
+    """Add the energy budget's variables (:mod:`lubelink.energy`) to ``data``.
+
+    Returns ``(note, largest residual [J], that residual relative to the largest energy or work)``.
+    """
+    from . import energy
+
+    if not any(name in want for name in _ENERGY):
+        return "not asked for", np.nan, np.nan
+    why = energy.missing(result.model)
+    if why:
+        return f"no energy budget for {why}", np.nan, np.nan
+    side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
+    series, (change, loss, collar), residual = energy.of_run(result, t, y, side)
+    for name, value in series.items():
+        if name in want:
+            data[name] = _entry(name, value)
+    for name, value in (("impact_energy_change", change), ("impact_dissipation", loss),
+                        ("impact_collar_work", collar)):
+        if name in want and result.model.config.contact.law == "restitution":
+            data[name] = _entry(name, value)
+    scale = max(float(np.max(np.abs(value))) for name, value in series.items() if name != "energy_residual")
+    return ("works by Simpson's rule over the samples and the impacts; the residual is the integration error and "
+            "the quadrature error of the sampling (refine solver.output_step if it matters)",
+            residual, residual / scale if scale > 0.0 else 0.0)
 
 
 def _u3_faces(model, want, y_state, x_star, V_r):
