@@ -26,6 +26,19 @@ def test_run_writes_a_reloadable_file(tmp_path):
     assert lubelink.results.config_of(ds).solver.t_end == 0.2
 
 
+def test_a_run_through_the_collar_face_exits_1_and_its_file_says_why(tmp_path):
+    """``paper-impact`` with 3 modes stops with status ``penetration`` (docs/model.md 5.3): exit status 1, the
+    summary's status line and the file's attributes say so; the summary prints the energy budget."""
+    out = tmp_path / "impact.nc"
+    r = cli("run", "--scenario", "paper-impact", "--set", "beam.modes=3", "--set", "solver.t_end=1.1",
+            "-o", str(out))
+    assert r.returncode == 1, r.stderr
+    assert "status         penetration: at t = 1.0728" in r.stdout and "second point" in r.stdout
+    assert "energy         peak" in r.stdout and "2/N" in r.stdout
+    ds = lubelink.load(out)
+    assert ds.attrs["status"] == "penetration" and ds.attrs["complete"] == 0
+
+
 def test_default_run_is_the_paper_scenario_and_names_its_file(tmp_path):
     r = cli("run", "-q", *SHORT_ARGS, cwd=tmp_path)
     assert r.returncode == 0, r.stderr

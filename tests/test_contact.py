@@ -174,3 +174,18 @@ def test_impacts_repeated_at_one_instant_end_in_chatter_at_stuck_impacts():
     spaced = contact.ContactLogic(_StrikingModel(resolve("paper-impact")))
     for k in range(2 * spaced.stuck_impacts):  # the same number of impacts, each 2 chatter intervals apart
         assert spaced.on_event(2e-6 * k, y, 2e-6 * k, y, None)[0] is None
+
+
+def test_the_restitution_law_with_several_modes_says_it_does_not_converge():
+    """The paper's restitution law with N > 1: its velocity jump scales like 2/N (docs/model.md 5.3); the run
+    says so, and with one mode it does not."""
+    import warnings
+
+    import lubelink
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = lubelink.simulate("paper-impact", {"beam.modes": 2, "solver.t_end": 0.05})
+    assert "2/N" in ds.attrs["contact_warning"] and any("2/N" in str(w.message) for w in caught)
+    assert ds.attrs["status"] == "complete"
+    assert lubelink.simulate("paper-impact", {"solver.t_end": 0.05}).attrs["contact_warning"] == ""

@@ -126,28 +126,44 @@ def test_one_thread_computes_the_pressure_here_and_a_sweep_point_asks_for_it(mon
 
 
 # ---------------------------------------------------------------- penetration of the collar (restitution law)
-def test_a_penetration_in_a_sustained_contact_is_reported_and_is_real():
-    """``paper-impact`` with 3 modes: a Zeno sequence ends in a sustained contact held at one point
-    while the link goes through the collar face elsewhere on the pad. The warning must name it,
-    and the film computed here from the modal sum on a fine pad grid must confirm it."""
-    import warnings
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        ds = lubelink.simulate("paper-impact", {"beam.modes": 3, "solver.t_end": 1.1})
-    message = ds.attrs["contact_warning"]
-    assert "sustained contact" in message and any(message in str(w.message) for w in caught)
+def test_a_second_point_reaching_the_face_in_a_sustained_contact_stops_the_run():
+    """``paper-impact`` with 3 modes (issue 34's audit case): a Zeno sequence ends in a sustained contact
+    held at one point while another point of the pad reaches the collar face. The run used to go on,
+    the link passing 101.8 um through the face at 1.07329 s, and end ``complete``; it now stops there
+    with status ``penetration``. The film computed here from the modal sum on a fine pad grid confirms
+    a second thin point away from the held one, and no sample is through the face."""
+    ds = lubelink.simulate("paper-impact", {"beam.modes": 3, "solver.t_end": 1.1, "solver.output_step": 1e-5})
+    assert ds.attrs["status"] == "penetration" and ds.attrs["complete"] == 0
+    message = ds.attrs["message"]
+    assert "second point" in message and "t = 1.0728" in message
     cfg = config_of(ds)
     m, f = cfg.mechanism, cfg.film
-    i = int(np.argmin(ds["film_min"].values))
-    assert f"t = {float(ds.time[i]):.6g} s" in message
+    assert float(ds["film_min"].min()) > 0.9 * cfg.contact.min_film
+    held = float(message.split("held it at x = ")[1].split(" m")[0])
+    i = ds.time.size - 1
     x0 = float(ds.x_star[i]) - (0.5 * f.pad_length if f.pad_reference == "centre" else 0.0)
     x = np.linspace(x0, x0 + f.pad_length, 2001)
     n = np.arange(1, cfg.beam.modes + 1)
-    u2 = np.sin(np.outer(x, n) * np.pi / m.rod_length) @ ds["q"].values[i]
-    film = f.clearance / 2 - u2  # the film H/2 - u2 of the watched face
-    assert film.min() < 0.9 * cfg.contact.min_film
-    assert film.min() == pytest.approx(float(ds["film_min"][i]), abs=1e-8)
+    film = f.clearance / 2 - np.sin(np.outer(x, n) * np.pi / m.rod_length) @ ds["q"].values[i]
+    k = int(np.argmin(film))
+    assert film[k] < cfg.contact.min_film and abs(x[k] - held) > 0.002  # the second point, 4.4 mm away
+    assert film[np.argmin(abs(x - held))] == pytest.approx(cfg.contact.min_film, rel=1e-3)  # the held one
+
+
+def test_a_link_through_the_face_between_samples_of_free_flight_is_not_complete():
+    """The samples' check (:func:`lubelink.contact.penetration`) still catches what the events cannot: it
+    turns a would-be complete run into ``penetration`` (here the check is fed a link through the face)."""
+    from lubelink import results
+    from lubelink.config import resolve
+    from lubelink.simulate import run
+
+    r = run(resolve("paper-impact", {"solver.t_end": 0.05}))
+    assert r.status == "complete"
+    r.y = r.y.copy()
+    r.y[-3:, 0] = 0.01  # u2 of 1 cm: through the face of 1 mm clearance
+    ds = results.dataset(results.collect(r))
+    assert ds.attrs["status"] == "penetration" and ds.attrs["complete"] == 0
+    assert "went through the collar face" in ds.attrs["message"]
 
 
 def test_no_warning_when_the_film_stays_above_the_contact_threshold():
@@ -157,17 +173,19 @@ def test_no_warning_when_the_film_stays_above_the_contact_threshold():
 
 
 def test_a_sweep_point_records_the_penetration_even_without_storing_the_film():
-    """A sweep point computes only what it stores; the penetration check runs regardless, and the
-    point's record carries it as its message."""
+    """A sweep point computes only what it stores; the penetration is its status and message regardless."""
     from lubelink.config import resolve
     from lubelink.results import collect
     from lubelink.simulate import run
     from lubelink.sweep.compute import summarise
 
-    r = collect(run(resolve("paper-impact", {"beam.modes": 3, "solver.t_end": 1.1})), variables={"u2_mid"})
+    r = run(resolve("paper-impact", {"solver.t_end": 0.05}))
+    r.y = r.y.copy()
+    r.y[-3:, 0] = 0.01  # through the face, as in the test above
+    r = collect(r, variables={"u2_mid"})
     assert "film_min" not in r.data_vars
     record = summarise(r, ("peak_u2_mid",))
-    assert record["status"] == "complete" and "went through the collar face" in record["message"]
+    assert record["status"] == "penetration" and "went through the collar face" in record["message"]
 
 
 def test_the_direct_dataset_of_an_orbit_and_of_a_branch_is_the_constructors():

@@ -297,6 +297,11 @@ class Model:
                 out[i] = sustained_given(t[i], kin, A_r, y[i], d, p, sides[i], points[i])
         return out
 
+    def contact_position(self, t, phase):
+        """Where on the link [m] the contact of ``phase`` ``(side, v_minus, point)`` acts at ``t``."""
+        x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
+        return float(contact_position(phase[2], x0, self.config.film.pad_length))
+
     def contact_loads(self, t, y, phase):
         """Modal force [N] of the contact in ``phase`` ``(side, v_minus, point)`` at ``(t, y)``: the compliant
         force, or the constraint force of a sustained contact (:class:`ContactPhase`)."""
@@ -304,8 +309,7 @@ class Model:
             return self.contact_force(t, y, phase[:2])[0]
         side, _, point = phase
         force = float(self.sustained_force(t, y, side, point)[0])
-        x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
-        x_c = contact_position(point, x0, self.config.film.pad_length)
+        x_c = self.contact_position(t, phase)
         L = self.config.mechanism.rod_length
         return -side * force * np.sin(beam.wavenumbers(self.modes, L) * x_c)
 

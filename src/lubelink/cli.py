@@ -156,6 +156,14 @@ def _summary(r, source, path, wall):
     n_imp = int(a["impact_count"])
     times = ", ".join(f"{t:.4f}" for t in r["impact_time"][:5]) + (" ..." if n_imp > 5 else "")
     rows.append(("impacts", f"{n_imp}" + (f" (t = {times} s)" if n_imp else "")))
+    if "energy" in r and r["energy"].size:
+        works = ", ".join(f"{name[5:]} {float(r[name][-1]):+.3g}" for name in
+                          ("work_rigid", "work_film", "work_asperity", "work_contact", "work_impacts", "work_damping")
+                          if name in r and float(np.abs(r[name]).max()) > 0.0)
+        rows.append(("energy", f"peak {float(r['energy'].max()):.4g} J; work to the end [J]: {works or 'none'}; "
+                               f"balance residual {a['energy_residual_relative']:.1e} of the largest term"
+                               + (" (the samples are too coarse for the budget: a smaller solver.output_step "
+                                  "tightens it)" if a["energy_residual_relative"] > 1e-2 else "")))
     if a.get("contact_warning"):
         rows.append(("warning", a["contact_warning"]))
     backend = a["backend"] + (f" ({a['backend_note']})" if a["backend_note"] else "")
@@ -289,7 +297,7 @@ def _cmd_run(args):
     if failure:
         print(f"lubelink: error: {failure}", file=sys.stderr)
         return 1
-    return 0 if result.complete else 1
+    return 0 if results.attrs["complete"] else 1
 
 
 def _cmd_config(args):

@@ -338,7 +338,7 @@ class ContactLogic:
     :meth:`on_event` is called with the states on both sides of the located zero. It returns
     ``(status, message, t, y, phase)``: ``status`` None to go on from ``(t, y)`` in ``phase``
     ``(side, v_minus)`` (None outside contact: a compliant contact, or a sustained contact of
-    the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``).
+    the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``, ``"penetration"``).
     ``contacts`` lists ``[t_start, t_end, side]`` of every contact phase (``t_end`` NaN while it lasts).
     A side is +1 or -1, or for the spatial model a code of :func:`lubelink.spatial_model.face_of`
     (+-2: the faces normal to ``e3``); the recorded modal states are the in-plane block.
@@ -382,8 +382,16 @@ class ContactLogic:
             self.impacts[-1][7] = planar(y_after)[N:].copy()
             self.contacts[-1][1] = t_after
             return None, "", t_after, y_after, None
-        if phase is not None:  # a sustained contact ends: its force fell to zero
+        if phase is not None:  # a sustained contact ends: its force fell to zero, or a second point reached the face
             self.contacts[-1][1] = t_after
+            xi = model.thinnest_film(t_after, y_after)[0]
+            if xi < (1.0 - PENETRATION) * ct.min_film:
+                return ("penetration",
+                        f"at t = {t_after:.9g} s the link reached the collar face at a second point of the pad "
+                        f"(thinnest film {xi:.3g} m, contact.min_film = {ct.min_film} m) while a sustained contact "
+                        f"held it at x = {model.contact_position(t_after, phase):.6g} m: the restitution law holds "
+                        "one point (docs/model.md 5.3); contact.law = 'compliant' follows the thinnest point",
+                        t_after, y_after, None)
             return None, "", t_after, y_after, None
         # restitution: the jump applies to the last state above min_film, so the gap then opens
         y_plus, x_c, v_minus, side = model.impact(t_before, y_before)

@@ -275,12 +275,20 @@ def _sustained_term(phase, t, kin, A_r, y, out, p):
 
 @jitable
 def _sustained_event(phase, t, kin, A_r, y, p):
-    """The force [N] of the sustained contact ``phase``, the event of its segment (None: compiles to nothing)."""
+    """The event of a sustained contact ``phase`` (None: compiles to nothing): its force [N], which ends it at
+    zero; or, once the film elsewhere on the pad is :data:`~lubelink.contact.PENETRATION` ``min_film`` below
+    ``min_film`` (the link reaching the face at a second point, which one held point cannot stop), that
+    depth times the modal stiffness of the highest mode [N] (<= 0)."""
     if phase is None:
         return 0.0
     out = np.empty(y.shape[0])
     rhs_called(t, kin, y, out, p)
-    return sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
+    force = sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
+    below = thinnest_given(kin[3], y, p)[0] - (1.0 - contact.PENETRATION) * p.contact.min_film
+    if below > 0.0:
+        return force
+    w = p.basis.omega_n[p.basis.modes - 1]
+    return below * p.basis.modal_mass * w * w
 
 
 @jitable

@@ -157,7 +157,8 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         ``y`` holds the sine-mode states ``[q, q_dot]`` (also for a variable section, which is
         integrated in its eigen-coordinates, :mod:`lubelink.section`); for ``beam.model =
         "spatial"`` ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (:mod:`lubelink.spatial_model`). ``status`` is
-        ``"complete"``, or ``"film_breakdown"``, ``"chatter"``, ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
+        ``"complete"``, or ``"film_breakdown"``, ``"chatter"``, ``"penetration"`` (a second point of the pad reaching
+        the face in a sustained contact), ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
         samples computed so far. ``impacts`` holds one list
         ``[t, x_c, v_minus, v_plus, side, q, q_dot_before, q_dot_after]`` per impact (compliant
         contact: ``t`` is the start, ``v_plus`` the approach velocity at the end); ``contacts``

@@ -40,7 +40,7 @@ DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times"
                            and not any(q in c for c in SPATIAL_COMPANIONS.values()))
 #: Always stored for every point, whatever ``quantities`` says.
 ALWAYS = {
-    "status": ("1", "outcome: complete, film_breakdown, chatter, solver_failure, timeout, out_of_domain, "
+    "status": ("1", "outcome: complete, film_breakdown, chatter, penetration, solver_failure, timeout, out_of_domain, "
                     "error, worker_died or invalid"),
     "message": ("1", "why the point ended (the error for a failed point), then a penetration of the collar face"),
     "wall_time": ("s", "wall-clock time of the simulation on its worker"),
