@@ -396,3 +396,15 @@ def test_vector_tolerances_are_accepted():
         sol = solve_ivp(oscillator, (0.0, 5.0), oscillator_exact(0.0), method=BulirschStoer,
                         rtol=[1e-9, 1e-9], atol=[1e-12, 1e-12])
     assert np.max(np.abs(sol.y[:, -1] - oscillator_exact(5.0))) < 1e-7
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-10])
+def test_a_start_at_rest_does_not_trip_the_stability_check(rtol):
+    """``y'' = t - 1`` from rest at ``t = 1``: ``f(1, y0) = 0``, so ODEX's stability check (the first substep's
+    change of ``f`` against ``f`` itself) rejected every step size down to the spacing of the numbers near
+    ``t``, as at the release of a sustained contact (``paper-impact``, issue 34). The change counts only where
+    it moves the substep beyond the tolerance; the solution is the closed form ``(t - 1)^3 / 6``."""
+    sol = solve_ivp(lambda t, y: np.array([y[1], t - 1.0]), (1.0, 3.0), np.zeros(2), method=BulirschStoer,
+                    rtol=rtol, atol=1e-3 * rtol)
+    assert sol.success, sol.message
+    assert sol.y[0, -1] == pytest.approx(8.0 / 6.0, rel=100 * rtol)
