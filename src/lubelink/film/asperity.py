@@ -23,7 +23,7 @@ from ..beam import deflection_at, wavenumber
 __all__ = ["f52", "greenwood_tripp_integral", "asperity_factor", "asperity_pressure", "asperity_stiffness",
            "modal_asperity_force", "modal_asperity_jacobian", "asperity_force_many"]
 
-#: Simpson intervals of :func:`f52` (relative error below 1e-9 for every ``lam``, see the tests).
+#: Simpson intervals of :func:`f52` (relative error below 1e-9 for every ``lam < 10``, see the tests).
 F52_INTERVALS = 256
 
 
@@ -32,13 +32,14 @@ def greenwood_tripp_integral(lam, k):
     """``F_k(lam) = 1/sqrt(2 pi) int_lam^inf (s - lam)^k exp(-s^2 / 2) ds`` [-] for ``k = 5/2`` (else ``3/2``).
 
     With ``s - lam = w^2`` it is ``2/sqrt(2 pi) int w^(2 k + 1) exp(-(w^2 + lam)^2 / 2) dw``, a smooth
-    integrand that is negligible (below ``e^-50``) outside ``|w^2 + lam| < 10``: composite Simpson
-    over that range. 0 for ``lam >= 10``.
+    integrand: composite Simpson over ``-10 < s < s_max``, ``s_max = max(10, sqrt(lam^2 + 70))``. Beyond
+    ``s_max`` the integrand is below ``e^-50`` and, where ``lam`` is large and the integral itself
+    small (``~ Gamma(k + 1) phi(lam) lam^-(k + 1)``), below ``1e-12`` of it. 0 for ``lam >= 10``.
     """
     if lam >= 10.0:
         return 0.0
     lo = np.sqrt(max(0.0, -lam - 10.0))
-    hi = np.sqrt(10.0 - lam)
+    hi = np.sqrt(max(10.0, np.sqrt(lam * lam + 70.0)) - lam)
     n = F52_INTERVALS
     h = (hi - lo) / n
     total = 0.0
