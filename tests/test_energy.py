@@ -138,6 +138,8 @@ def test_the_residual_falls_with_the_sampling_like_simpsons_rule():
     ("paper", {}), ("paper-dry", {"beam.modes": 5}), ("lubricated", {"solver.t_end": 0.5}),
     ("guide", {"solver.t_end": 0.1, "solver.output_step": 1e-5}),
     ("paper", {"model.equations": "printed"}), ("paper", {"mechanism.gravity": [0.0, -9.81]}),
+    ("paper", {"film.model": "none", "film.clearance": 1e-4, "contact.law": "compliant", "contact.min_film": 1e-6,
+               "contact.extent": "pad", "beam.modes": 7, "solver.t_end": 0.02, "solver.output_step": 2e-6}),
 ])
 def test_every_scenario_closes_its_energy_balance(scenario, overrides):
     ds = lubelink.simulate(scenario, overrides)

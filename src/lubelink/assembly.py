@@ -20,8 +20,9 @@ from . import _jit, beam, compliant, contact, film, section
 from .errors import BackendError
 from .film.jacobian import has_film_jacobian
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
-from .model import (NO_PHASE, Basis, ContactPhase, Params, contact_point, contact_position, event_with, gap,
-                    in_sustained, rhs, rhs_with, sustained_force_many, sustained_given, thinnest_given)
+from .model import (NO_PHASE, Basis, ContactPhase, Params, compliant_many, contact_point, contact_position,
+                    event_with, gap, in_sustained, rhs, rhs_with, sustained_force_many, sustained_given,
+                    thinnest_given)
 from .params import Config
 from .views import kernel_view
 
@@ -213,6 +214,8 @@ class Model:
             return "a variable section (eigen-coordinates)"
         if phase is not None and self.config.contact.law == "restitution":
             return "a sustained contact (its constraint force's Jacobian is not written yet)"
+        if phase is not None and self.config.contact.extent == "pad":
+            return "the compliant contact over the pad (its Jacobian is not written yet)"
         return has_film_jacobian(self.config.film)
 
     def functions(self):
@@ -297,6 +300,21 @@ class Model:
                 out[i] = sustained_given(t[i], kin, A_r, y[i], d, p, sides[i], points[i])
         return out
 
+    def compliant_loads(self, t, y, side, v_minus):
+        """``(force [N], power [W])`` of the compliant contact at samples ``t`` ``(T,)`` of states ``y``: its
+        resultant and its power on the link (:func:`~lubelink.model.compliant_many`; 0 where ``side`` is 0)."""
+        t = np.ascontiguousarray(t, dtype=float)
+        side = np.ascontiguousarray(side, dtype=float)
+        v_minus = np.ascontiguousarray(v_minus, dtype=float)
+        y = np.ascontiguousarray(y, dtype=float)
+        if self.compiled and self.params.spatial is None and self.motion.table() is not None:
+            return compliant_many(t, y, side, v_minus, self.params)
+        force, power = np.zeros(t.size), np.zeros(t.size)
+        for i in np.flatnonzero(side):
+            F, force[i] = self.contact_force(t[i], y[i], (side[i], v_minus[i]))
+            power[i] = float(np.dot(y[i, self.modes:2 * self.modes], F)) if self.params.spatial is None else np.nan
+        return force, power
+
     def contact_position(self, t, phase):
         """Where on the link [m] the contact of ``phase`` ``(side, v_minus, point)`` acts at ``t``."""
         x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
@@ -323,8 +341,9 @@ class Model:
         total = film.modal_film_force(y[:N], y[N:], kin[3], kin[4], p.film, p.beam.width, p.pad, p.basis.rod_length, F)
         return F, float(total)
 
-    def contact_force(self, t, y, phase):
-        """Modal force [N] and magnitude [N] of the compliant contact in ``phase`` ``(side, v_minus)``."""
+    def contact_force(self, t, y, phase, width=None):
+        """Modal force [N] and magnitude [N] of the compliant contact in ``phase`` ``(side, v_minus)`` (on a face of
+        ``width`` [m], default the link's)."""
         N = self.modes
         kin = self.kinematics(t)
         F = np.zeros(N)
@@ -332,7 +351,8 @@ class Model:
         x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
         y = np.ascontiguousarray(y, dtype=float)
         force = compliant.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
-                                        p.basis.rod_length, float(phase[0]), float(phase[1]), F)
+                                          p.basis.rod_length, float(phase[0]), float(phase[1]),
+                                          p.beam.width if width is None else width, F)
         return F, float(force)
 
 

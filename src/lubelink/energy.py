@@ -219,10 +219,12 @@ def of_run(result, t, y, phase_side):
     table = _table(model, T, Y)
     powers = {name: table[:, k + 1] for k, name in enumerate(LOADS)}
     contact = np.zeros(T.size)
-    if law != "none":
-        for j, i in enumerate(index):
-            if phases[i][0] != 0:
-                contact[j] = float(np.dot(Y[j, N:], model.contact_loads(T[j], Y[j], phases[i])))
+    sides = np.array([phases[i][0] for i in index])
+    if law == "compliant":
+        contact = model.compliant_loads(T, Y, sides, np.array([phases[i][1] for i in index]))[1]
+    elif law == "restitution":
+        for j in np.flatnonzero(sides):
+            contact[j] = float(np.dot(Y[j, N:], model.contact_loads(T[j], Y[j], phases[index[j]])))
     powers["contact"] = contact
     change, loss, collar = impact_terms(result.impacts, restitution, model.modal_mass,
                                         model.config.mechanism.rod_length)

@@ -123,13 +123,14 @@ def phase_side(phase):
 
 
 @jitable
-def _compliant_term(phase, q, q_dot, x_star, V_r, p, F):
-    """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing)."""
+def _compliant_term(phase, q, q_dot, x_star, V_r, p, width, F):
+    """Add the compliant contact force of ``phase`` on a face of ``width`` [m] (None: no compliant law, compiles
+    to nothing)."""
     if phase is None:
         return
     x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
     compliant.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
-                            phase.v_minus, F)
+                              phase.v_minus, width, F)
 
 
 @jitable
@@ -172,7 +173,7 @@ def rhs_given(t, kin, y, out, p):
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, wavenumber(n + 1, L))
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
-        _compliant_term(p.phase, q, q_dot, x_star, V_r, p, F)
+        _compliant_term(p.phase, q, q_dot, x_star, V_r, p, p.beam.width, F)
     A_eff = effective_acceleration(kin, p)
     stiffening = stiffened(p)
     zeta = p.beam.damping_ratio
@@ -412,6 +413,25 @@ def sustained_force_many(t, y, side, point, p):
             rhs_called(t[i], kin, y[i], d, p)
             out[i] = sustained_given(t[i], kin, np.nan, y[i], d, p, side[i], point[i])
     return out
+
+
+@kernel
+def compliant_many(t, y, side, v_minus, p):
+    """``(force [N], power [W])`` of the compliant contact of ``side[i]`` (0: none) and approach velocity
+    ``v_minus[i]`` at many samples ``t`` ``(T,)``, ``y`` ``(T, 2N)``: its resultant and its power on the link."""
+    force = np.zeros(t.shape[0])
+    power = np.zeros(t.shape[0])
+    N = p.basis.modes
+    F = np.empty(N)
+    for i in range(t.shape[0]):
+        if side[i] != 0.0:
+            kin = motion_at(t[i], p.motion)
+            x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
+            F[:] = 0.0
+            force[i] = compliant.compliant_force(y[i, :N], y[i, N:], x0, kin[4], p.film, p.contact, p.pad,
+                                                 p.basis.rod_length, side[i], v_minus[i], p.beam.width, F)
+            power[i] = np.dot(y[i, N:], F)
+    return force, power
 
 
 @kernel

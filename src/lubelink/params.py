@@ -41,6 +41,7 @@ CHOICES = {
     "film.faces": ("u2", "u2+u3"),
     "beam.model": ("planar", "spatial"),
     "contact.law": ("none", "restitution", "compliant"),
+    "contact.extent": ("point", "pad"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
     "solver.method": ("auto", "exponential", "exponential-adams", "rodas", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
     "solver.backend": ("auto", "numba", "numpy"),
@@ -99,6 +100,10 @@ FIELDS = {
     "contact.chatter_interval": ("s", "", "impacts closer in time than this switch to sustained contact"),
     "contact.stiffness": ("N m-n", "K", "stiffness of the compliant law (n = exponent)"),
     "contact.exponent": ("1", "n", "exponent of the compliant law (1.5: Hertz)"),
+    "contact.extent": ("", "", "where the compliant law acts: point (the thinnest film) or pad (wherever the face is "
+                               "reached, a foundation of face_stiffness)"),
+    "contact.face_stiffness": ("Pa m-1", "k_f", "pressure per penetration of the collar face (extent pad): E'/t of a "
+                                                "face layer of constrained modulus E' and thickness t"),
     "model.equations": ("", "", "corrected (lubelink's) or a printed form of the paper"),
     "solver.method": ("", "", "auto: exponential-adams on the planar link without a film or without a contact law, "
                               "else DOP853 for 1 mode and exponential for more"),
@@ -335,6 +340,13 @@ class Contact:
         Contact stiffness of the compliant law [N/m^exponent] (``K``).
     exponent : float
         Exponent of the compliant law [-] (``n``; 1.5 Hertzian).
+    extent : str
+        Where the compliant law acts: ``"point"``, the force ``K delta^n`` at the thinnest film; or
+        ``"pad"``, a pressure ``k_f delta(x)`` wherever the film on the pad is below ``min_film``
+        (an elastic foundation: the collar face's layer), with the same damping.
+    face_stiffness : float
+        ``k_f`` of ``extent = "pad"`` [Pa/m]: the constrained modulus of the face layer over its
+        thickness (1e12: a 1 mm layer of 1 GPa).
     """
 
     law: str = "none"
@@ -343,6 +355,8 @@ class Contact:
     chatter_interval: float = 1.0e-6
     stiffness: float = 1.0e10
     exponent: float = 1.5
+    extent: str = "point"
+    face_stiffness: float = 1.0e12
 
 
 @dataclass(frozen=True)

@@ -483,6 +483,5 @@ def _contact_force(result, model, t, y, side):
     if model.config.contact.law == "restitution":
         force[inside] = model.sustained_force(t[inside], y[inside], side[inside], result.phase_point[inside])
     else:
-        for i in inside:
-            force[i] = model.contact_force(t[i], y[i], (side[i], result.phase_v[i]))[1]
+        force[inside] = model.compliant_loads(t[inside], y[inside], side[inside], result.phase_v[inside])[0]
     return force

@@ -104,7 +104,8 @@ def _compliant_spatial(phase, y, x_star, V_r, p, F):
     N = p.basis.modes
     M = 3 * N
     _compliant_term(ContactPhase(side, phase.v_minus, phase.point), y[k * N:(k + 1) * N],
-                    y[M + k * N:M + (k + 1) * N], x_star, V_r, p, F[k * N:(k + 1) * N])
+                    y[M + k * N:M + (k + 1) * N], x_star, V_r, p, p.beam.height if k == 2 else p.beam.width,
+                    F[k * N:(k + 1) * N])
 
 
 @jitable(inline=True)
@@ -355,7 +356,8 @@ class SpatialModel(Model):
     def contact_force(self, t, y, phase):
         """The compliant force of ``phase`` ``(side code, v_minus)`` on its face's block: ``(modal force [N], magnitude [N])``."""
         k, side = face_of(float(phase[0]))
-        return super().contact_force(t, self.block_state(y, k), (side, phase[1]))
+        width = self.config.beam.height if k == 2 else self.config.beam.width
+        return super().contact_force(t, self.block_state(y, k), (side, phase[1]), width)
 
     def film_loads(self, t, y):
         """Modal film forces [N] and resultant along +e2 [N] of the ``u2`` faces' films."""

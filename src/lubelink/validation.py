@@ -120,6 +120,8 @@ RULES = {
         "chatter_interval": _num(0, 1, lo_open=True),
         "stiffness": _num(0, 1e16, lo_open=True),
         "exponent": _num(1, 3),
+        "extent": _choice(CHOICES["contact.extent"]),
+        "face_stiffness": _num(0, 1e18, lo_open=True),
     },
     "model": {"equations": _choice(CHOICES["model.equations"])},
     "solver": {

@@ -44,6 +44,9 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
     if progress:
         progress("compiling the results")
     to_dataset(result)
+    # the results of a compliant contact (its batched force kernel)
+    to_dataset(run(resolve("paper", {"beam.modes": 2, "film.clearance": 1e-4, "contact.law": "compliant",
+                                     "contact.min_film": 1e-6, "solver.t_end": 7e-3, "solver.output_step": 1e-3})))
     if progress:
         progress("compiling the spatial model (beam.model = 'spatial')")
     for method in ("exponential", "DOP853"):  # its parameters have a type of their own: the methods again
