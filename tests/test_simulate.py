@@ -65,15 +65,18 @@ def test_zero_restitution_rides_on_the_collar_and_goes_on():
 
 
 def _resting(N, delta, t_end):
-    """A link at rest on gravity's side, the collar pad over its middle, ``delta`` above its film."""
+    """A link at rest on gravity's side, a short collar pad (10 mm) over its middle, ``delta`` above its film.
+
+    The pad is short so that the link propped at one point of it does not reach the face elsewhere (with the
+    50 mm pad it sags 0.5 um or more into the face beside the prop, and the run stops with ``penetration``)."""
     from lubelink.kinematics import sampled_motion
 
     t = np.linspace(-1.0, t_end + 1.0, 8)
     z = np.zeros_like(t)
-    motion = sampled_motion(t, A_O2=z, omega=z, x_star=z + 0.475, V_r=z, angle=z + np.pi)
+    motion = sampled_motion(t, A_O2=z, omega=z, x_star=z + 0.495, V_r=z, angle=z + np.pi)
     cfg = resolve("paper", {"film.model": "none", "contact.law": "restitution", "contact.restitution": 0.5,
                             "mechanism.gravity": [0.0, -9.81], "beam.modes": N, "beam.damping_ratio": 0.2,
-                            "film.clearance": 2 * (5e-6 + delta), "solver.t_end": t_end,
+                            "film.clearance": 2 * (5e-6 + delta), "film.pad_length": 0.01, "solver.t_end": t_end,
                             "solver.method": "DOP853"})
     return cfg, run(cfg, motion)
 
@@ -87,7 +90,7 @@ def test_a_link_resting_on_the_collar_settles_to_the_static_solution():
     cfg, r = _resting(N, delta, 1.2)
     assert r.status == "complete" and len(r.contacts) >= 1 and np.isnan(r.contacts[-1][1])
     a = [i[1] for i in r.impacts if i[0] == r.contacts[-1][0]][0]
-    assert 0.475 <= a <= 0.525
+    assert 0.495 <= a <= 0.505
     ds = lubelink.results.to_dataset(r)
     b, L = cfg.beam, cfg.mechanism.rod_length
     w, EI = b.density * b.area * 9.81, b.youngs_modulus * b.second_moment

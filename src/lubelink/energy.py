@@ -113,12 +113,19 @@ def impact_terms(impacts, restitution_law, mass, rod_length):
 
 def _cumulative(t, power):
     """``int`` of ``power`` from the first of the times ``t`` to each [J]: Simpson's rule on the (non-uniform)
-    points, the trapezoid for two."""
+    points, the trapezoid for two; a point at the time of the one before it (simultaneous impacts, a sample
+    at an impact) adds nothing."""
     from scipy.integrate import cumulative_simpson, cumulative_trapezoid
 
-    if t.size < 3:
-        return cumulative_trapezoid(power, t, initial=0.0)
-    return cumulative_simpson(power, x=t, initial=0.0)
+    if t.size < 2:
+        return np.zeros(t.size)
+    keep = np.r_[True, np.diff(t) > 0.0]
+    tu, pu = t[keep], power[keep]
+    if tu.size < 3:
+        work = cumulative_trapezoid(pu, tu, initial=0.0)
+    else:
+        work = cumulative_simpson(pu, x=tu, initial=0.0)
+    return work[np.cumsum(keep) - 1]
 
 
 def budget(t, energy, powers, starts=(), jumps=()):
