@@ -101,8 +101,11 @@ def make_params(config: Config, table: MotionTable | None, cross_section=None) -
     if table.knots is not None:
         table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
     phase = NO_PHASE if config.contact.law in ("compliant", "restitution") else None
+    ct = kernel_view(config.contact)
+    if config.contact.law == "compliant" and config.contact.extent == "pad":  # (see contact.COMPLIANT_PAD)
+        ct = ct._replace(law=contact.COMPLIANT_PAD, stiffness=float(config.contact.face_stiffness), exponent=1.0)
     return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
-                  kernel_view(config.collar), kernel_view(config.contact), kernel_view(config.model), basis, pad,
+                  kernel_view(config.collar), ct, kernel_view(config.model), basis, pad,
                   table, phase, galerkin, rough=float(config.film.roughness) if config.film.roughness > 0.0 else None)
 
 

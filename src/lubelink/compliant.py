@@ -14,12 +14,9 @@ import numpy as np
 
 from ._jit import jitable
 from .beam import add_deflection, wavenumber
-from .contact import _u2_derivatives, approach_velocity, thinnest_film_side, thinnest_film_sides
-from .params import CHOICES
+from .contact import COMPLIANT_PAD, _u2_derivatives, approach_velocity, thinnest_film_side, thinnest_film_sides
 
 __all__ = ["lankarani_nikravesh", "compliant_force", "face_contact_force", "compliant_jacobian"]
-
-PAD = CHOICES["contact.extent"].index("pad")
 
 
 @jitable
@@ -58,7 +55,7 @@ def compliant_force(q, q_dot, x0, V_r, f, c, pad, rod_length, side, v_minus, wid
     acts at the thinnest-film point against the side's normal. ``"pad"``: :func:`face_contact_force`
     on a face of ``width`` [m].
     """
-    if c.extent == PAD:
+    if c.law == COMPLIANT_PAD:
         return face_contact_force(q, q_dot, x0, f, c, pad, rod_length, side, v_minus, width, F)
     xi, x_c, at_edge, _ = thinnest_film_sides(q, x0, f, pad, rod_length, side)
     delta = c.min_film - xi
@@ -136,7 +133,7 @@ def face_contact_force(q, q_dot, x0, f, c, pad, rod_length, side, v_minus, width
     k_c = int((x_c - x0) / step)  # x_c inside (k_c, k_c + 1) joins the pieces' ends there
     inside = k_c < K - 1 and x0 + k_c * step < x_c < x0 + (k_c + 1) * step
     film_min = c.min_film - 0.5 * f.clearance
-    stiffness = width * c.face_stiffness
+    stiffness = width * c.stiffness  # contact.face_stiffness (lubelink.assembly.make_params)
     total = 0.0
     x_a = x0
     d_a = film_min + u[0]

@@ -43,6 +43,16 @@ __all__ = [
 ]
 
 NO_LAW, RESTITUTION, COMPLIANT = (CHOICES["contact.law"].index(v) for v in ("none", "restitution", "compliant"))
+#: The compiled code's ``contact.law`` of the compliant law over the pad face (``contact.extent = "pad"``), whose
+#: ``stiffness`` there is ``contact.face_stiffness``: the parameters compiled code reads keep their fields (one
+#: more field in them made every right-hand side 2-3x slower, benchmarks/README.md).
+COMPLIANT_PAD = len(CHOICES["contact.law"])
+
+
+@jitable
+def is_compliant(law):
+    """Whether the compiled code's ``law`` is the compliant law (at a point or over the pad)."""
+    return law == COMPLIANT or law == COMPLIANT_PAD
 
 #: Entries of the thinnest-film search's scratch (``2 N + K``: ``sin``, ``cos`` of ``beta_n x0`` and the
 #: ``K = 16 + 4 N`` samples) kept on the stack (:func:`lubelink._jit.stack_empty`): up to 40 modes; more

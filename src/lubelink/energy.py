@@ -58,8 +58,8 @@ def powers_given(kin, y, p, out):
     q = y[:N]
     q_dot = y[N:]
     out[0] = beam.modal_energy(q, q_dot, p.basis.omega_n, m)
-    A_eff = effective_acceleration(kin, p)
-    softening = -omega * omega if stiffened(p) else omega * omega
+    A_eff = effective_acceleration(kin[0], omega, kin[6], kin[7], p.mechanism.gravity, p.model.equations)
+    softening = -omega * omega if stiffened(p.model.equations) else omega * omega
     rigid = 0.0
     damping = 0.0
     R = 0.0
@@ -118,14 +118,18 @@ def _cumulative(t, power):
     from scipy.integrate import cumulative_simpson, cumulative_trapezoid
 
     if t.size < 2:
-        return np.zeros(t.size)
-    keep = np.r_[True, np.diff(t) > 0.0]
-    tu, pu = t[keep], power[keep]
+        return np.zeros(power.shape)
+    steps = np.diff(t)
+    keep = np.r_[True, steps > 0.0]
+    if keep.all() and np.ptp(steps) <= 1e-9 * steps[0]:  # uniform samples: SciPy's faster equal-step rule
+        return cumulative_simpson(power, dx=float(steps.mean()), initial=0.0) if t.size > 2 else \
+            cumulative_trapezoid(power, t, initial=0.0)
+    tu, pu = t[keep], power[..., keep]
     if tu.size < 3:
         work = cumulative_trapezoid(pu, tu, initial=0.0)
     else:
         work = cumulative_simpson(pu, x=tu, initial=0.0)
-    return work[np.cumsum(keep) - 1]
+    return work[..., np.cumsum(keep) - 1]
 
 
 def budget(t, energy, powers, starts=(), jumps=()):
@@ -153,15 +157,14 @@ def budget(t, energy, powers, starts=(), jumps=()):
         ``E(t) - E(t[0]) - sum of the works`` [J].
     """
     bounds = [0, *starts, t.size]
-    works = {}
-    for name, power in powers.items():
-        power = np.asarray(power, dtype=float)
-        work = np.empty(t.size)
-        total = 0.0
-        for a, b in zip(bounds[:-1], bounds[1:]):
-            work[a:b] = total + _cumulative(t[a:b], power[a:b])
-            total = work[b - 1]
-        works[name] = work
+    P = np.array([np.asarray(power, dtype=float) for power in powers.values()]).reshape(len(powers), t.size)
+    W = np.empty_like(P)
+    total = np.zeros(len(powers))
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b > a:
+            W[:, a:b] = total[:, None] + _cumulative(t[a:b], P[:, a:b])
+            total = W[:, b - 1]
+    works = dict(zip(powers, W))
     steps = np.zeros(t.size)
     for start, change in zip(starts, jumps):
         steps[start:] += change
@@ -204,40 +207,46 @@ def of_run(result, t, y, phase_side):
     N = model.modes
     law = model.config.contact.law
     restitution = law == "restitution"
-    v = result.phase_v if result.phase_v is not None else np.zeros(t.size)
-    point = result.phase_point if result.phase_point is not None else np.zeros(t.size)
-    phases = [(phase_side[i], v[i], point[i]) for i in range(t.size)]
-    times, states, order = list(t), list(y), [(float(ti), 2, i) for i, ti in enumerate(t)]
-    if restitution:
-        held = {c[0]: c[2] for c in result.contacts}  # sustained contacts, by their start
-        for k, (t_i, _, _, _, side, q, before, after) in enumerate(result.impacts):
-            for kind, q_dot in ((0, before), (1, after)):
-                phase = (0.0, 0.0, 0.0)
-                if kind == 1 and held.get(t_i) is not None:
-                    phase = (side, 0.0, model.contact_point(t_i, np.r_[q, before]))
-                order.append((float(t_i), kind, len(times)))
-                times.append(t_i)
-                states.append(np.r_[q, q_dot])
-                phases.append(phase)
-    order.sort()
-    index = np.array([i for _, _, i in order])
-    T = np.array(times)[index]
-    Y = np.ascontiguousarray(np.array(states)[index])
+    zeros = np.zeros(t.size)
+    v = result.phase_v if result.phase_v is not None else zeros
+    point = result.phase_point if result.phase_point is not None else zeros
+    T, Y, side, vel, where, kind = t, y, np.asarray(phase_side, dtype=float), v, point, np.full(t.size, 2)
+    impacts = result.impacts if restitution else []
+    if impacts:
+        k = len(impacts)
+        held = {c[0] for c in result.contacts}  # sustained contacts, by their start
+        extra = np.empty((2 * k, 2 * N))
+        extra_side = np.zeros(2 * k)
+        extra_point = np.zeros(2 * k)
+        for j, (t_i, _, _, _, s_i, q, before, after) in enumerate(impacts):
+            extra[2 * j] = np.r_[q, before]
+            extra[2 * j + 1] = np.r_[q, after]
+            if t_i in held:
+                extra_side[2 * j + 1] = s_i
+                extra_point[2 * j + 1] = model.contact_point(t_i, extra[2 * j])
+        T = np.r_[t, np.repeat([i[0] for i in impacts], 2)]
+        Y = np.concatenate([y, extra])
+        side = np.r_[side, extra_side]
+        vel = np.r_[vel, np.zeros(2 * k)]
+        where = np.r_[where, extra_point]
+        kind = np.r_[kind, np.tile([0, 1], k)]
+        order = np.lexsort((kind, T))
+        T, Y, side, vel, where, kind = T[order], np.ascontiguousarray(Y[order]), side[order], vel[order], \
+            where[order], kind[order]
+        sample = order < t.size
+    else:
+        sample = slice(None)
     table = _table(model, T, Y)
     powers = {name: table[:, k + 1] for k, name in enumerate(LOADS)}
     contact = np.zeros(T.size)
-    sides = np.array([phases[i][0] for i in index])
     if law == "compliant":
-        contact = model.compliant_loads(T, Y, sides, np.array([phases[i][1] for i in index]))[1]
-    elif law == "restitution":
-        for j in np.flatnonzero(sides):
-            contact[j] = float(np.dot(Y[j, N:], model.contact_loads(T[j], Y[j], phases[index[j]])))
+        contact = model.compliant_loads(T, Y, side, vel)[1]
+    elif restitution:
+        for j in np.flatnonzero(side):
+            contact[j] = float(np.dot(Y[j, N:], model.contact_loads(T[j], Y[j], (side[j], vel[j], where[j]))))
     powers["contact"] = contact
-    change, loss, collar = impact_terms(result.impacts, restitution, model.modal_mass,
-                                        model.config.mechanism.rod_length)
-    starts = [j for j, (_, kind, _) in enumerate(order) if kind == 1]
-    works, residual = budget(T, table[:, 0], powers, starts, change)
-    sample = index < t.size
+    change, loss, collar = impact_terms(impacts, restitution, model.modal_mass, model.config.mechanism.rod_length)
+    works, residual = budget(T, table[:, 0], powers, np.flatnonzero(kind == 1), change)
     series = {"energy": table[sample, 0], **{f"work_{name}": value[sample] for name, value in works.items()},
               "energy_residual": residual[sample]}
     return series, (change, loss, collar), float(np.max(np.abs(residual))) if t.size else 0.0

@@ -355,8 +355,8 @@ class Contact:
     chatter_interval: float = 1.0e-6
     stiffness: float = 1.0e10
     exponent: float = 1.5
-    extent: str = "point"
-    face_stiffness: float = 1.0e12
+    extent: str = field(default="point", metadata={"kernel": False})
+    face_stiffness: float = field(default=1.0e12, metadata={"kernel": False})
 
 
 @dataclass(frozen=True)

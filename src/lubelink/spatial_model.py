@@ -98,7 +98,7 @@ def _compliant_spatial(phase, y, x_star, V_r, p, F):
     """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing) on its face's block."""
     if phase is None:
         return
-    if p.contact.law != contact.COMPLIANT or phase.side == 0.0:
+    if not contact.is_compliant(p.contact.law) or phase.side == 0.0:
         return
     k, side = face_of(phase.side)
     N = p.basis.modes

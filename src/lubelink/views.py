@@ -18,7 +18,7 @@ __all__ = ["kernel_view", "MechanismView", "BeamView", "FilmView", "CollarView",
 
 
 def _view_type(cls):
-    view = namedtuple(f"{cls.__name__}View", [f.name for f in fields(cls)])
+    view = namedtuple(f"{cls.__name__}View", [f.name for f in fields(cls) if f.metadata.get("kernel", True)])
     view.__module__ = __name__
     return view
 
@@ -38,7 +38,8 @@ def kernel_view(section):
     """The compiled code's view of a parameter section: a named tuple with the same field names.
 
     Floats stay floats and integers integers (so every configuration gives compiled code the same
-    types); a choice becomes its index in :data:`CHOICES`; a pair stays a tuple of floats.
+    types); a choice becomes its index in :data:`CHOICES`; a pair stays a tuple of floats. A field with
+    ``metadata={"kernel": False}`` stays out (its value reaches compiled code through another field).
     """
     view, plan = _view_plan(type(section))
     values = []
@@ -60,4 +61,5 @@ def kernel_view(section):
 def _view_plan(cls):
     """``(view, ((field, choices or None, integer), ...))`` of a section class, for :func:`kernel_view`."""
     name, view = _VIEWS[cls]
-    return view, tuple((f.name, CHOICES.get(f"{name}.{f.name}"), f.type in ("int", int)) for f in fields(cls))
+    return view, tuple((f.name, CHOICES.get(f"{name}.{f.name}"), f.type in ("int", int)) for f in fields(cls)
+                       if f.metadata.get("kernel", True))
