@@ -907,3 +907,24 @@ def test_sigterm_stops_a_sweep_like_ctrl_c(client, tmp_path, monkeypatch, capsys
                               client.scheduler.address], cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert resumed.returncode == 0, resumed.stderr
     assert bool(load_sweep("s.zarr").done.all())
+
+
+@pytest.mark.parametrize("overrides, asperities, contact", [
+    ({"film.clearance": 160e-6, "film.viscosity": 0.0275}, False, False),    # full film
+    ({"film.clearance": 20e-6, "film.viscosity": 0.00275}, True, False),     # mixed lubrication
+    ({"film.clearance": 20e-6, "film.viscosity": 0.275, "mechanism.crank_speed": 62.8319}, True, True),  # contact
+])
+def test_the_regime_quantities_tell_the_regimes_of_examples_sweep_regimes(overrides, asperities, contact):
+    """Three points of examples/sweep-regimes.toml (``guide``, 3 modes, 0.5 s): the summaries
+    ``peak_asperity_force`` and ``peak_contact_force`` are the series' peaks, and they say full film, mixed
+    lubrication (the asperities carry load, the film stays above contact.min_film) or contact."""
+    import lubelink
+    from lubelink.sweep.compute import summarise
+
+    ds = lubelink.simulate("guide", {"beam.modes": 3, "solver.t_end": 0.5, **overrides})
+    record = summarise(ds, ("peak_asperity_force", "peak_contact_force", "min_film"))
+    assert record["peak_asperity_force"] == float(np.abs(ds.asperity_force).max())
+    assert record["peak_contact_force"] == float(np.abs(ds.contact_force).max())
+    assert (record["peak_asperity_force"] > 1.0) == asperities
+    assert (record["peak_contact_force"] > 0.0) == contact
+    assert (record["min_film"] < lubelink.results.config_of(ds).contact.min_film) == contact

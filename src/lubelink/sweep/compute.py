@@ -51,6 +51,8 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
         "peak_pressure": lambda: peak("pressure"),
         "min_film": lambda: float(np.nanmin(film_min)) if film_min.size else math.nan,
         "peak_film_force": lambda: peak("film_force"),
+        "peak_asperity_force": lambda: peak("asperity_force"),
+        "peak_contact_force": lambda: peak("contact_force"),
         "end_time": lambda: float(t[-1]) if t.size else math.nan,
         "nfev": lambda: int(ds.attrs.get("nfev", -1)),
         "impact_times": lambda: [float(t) for t in times[:max_impacts]]
@@ -107,7 +109,8 @@ def _sample(ds, name, n_time, output_step):
 
 #: The variable each summary quantity is computed from.
 _SOURCES = {"peak_u2_mid": "u2_mid", "peak_pressure": "pressure", "min_film": "film_min",
-            "peak_film_force": "film_force", "peak_u3_mid": "u3_mid", "peak_axial": "u1"}
+            "peak_film_force": "film_force", "peak_u3_mid": "u3_mid", "peak_axial": "u1",
+            "peak_asperity_force": "asperity_force", "peak_contact_force": "contact_force"}
 
 
 def _simulate_point(config, opts):

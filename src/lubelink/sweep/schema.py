@@ -31,12 +31,14 @@ QUANTITIES = {
     "impact_times": ("s", "times of the first store.max_impacts impacts (NaN: fewer impacts)", "impacts"),
     "peak_u3_mid": ("m", "peak absolute out-of-plane midpoint deflection, max |u3_mid| (NaN: planar model)", "f"),
     "peak_axial": ("m", "peak absolute axial displacement over the link, max |u1| (NaN: planar model)", "f"),
+    "peak_asperity_force": ("N", "peak absolute asperity contact force on the link (NaN: smooth surfaces)", "f"),
+    "peak_contact_force": ("N", "peak contact force of the collar on the link (NaN: no contact law)", "f"),
 }
 #: What a sweep with spatial points (``beam.model = "spatial"``) stores beside a quantity or time
 #: series it stores: the out-of-plane (and axial) twins of the in-plane ones.
 SPATIAL_COMPANIONS = {"peak_u2_mid": ("peak_u3_mid", "peak_axial"), "u2_mid": ("u3_mid",), "u2": ("u3",)}
 #: Stored when ``[store] quantities`` is not given (and, with spatial points, their companions).
-DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q != "impact_times"
+DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q not in ("impact_times", "peak_asperity_force", "peak_contact_force")
                            and not any(q in c for c in SPATIAL_COMPANIONS.values()))
 #: Always stored for every point, whatever ``quantities`` says.
 ALWAYS = {
