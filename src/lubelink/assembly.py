@@ -323,14 +323,11 @@ class Model:
         x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
         return float(contact_position(phase[2], x0, self.config.film.pad_length))
 
-    def contact_loads(self, t, y, phase):
-        """Modal force [N] of the contact in ``phase`` ``(side, v_minus, point)`` at ``(t, y)``: the compliant
-        force, or the constraint force of a sustained contact (:class:`ContactPhase`)."""
-        if self.config.contact.law == "compliant":
-            return self.contact_force(t, y, phase[:2])[0]
-        side, _, point = phase
+    def sustained_loads(self, t, y, side, point):
+        """Modal force [N] of a sustained contact on ``side`` at ``point`` (:class:`ContactPhase`) at ``(t, y)``
+        (the compliant law's: :meth:`compliant_loads`)."""
         force = float(self.sustained_force(t, y, side, point)[0])
-        x_c = self.contact_position(t, phase)
+        x_c = self.contact_position(t, (side, 0.0, point))
         L = self.config.mechanism.rod_length
         return -side * force * np.sin(beam.wavenumbers(self.modes, L) * x_c)
 

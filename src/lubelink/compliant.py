@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._jit import jitable
-from .beam import add_deflection, wavenumber
-from .contact import COMPLIANT_PAD, _u2_derivatives, approach_velocity, thinnest_film_side, thinnest_film_sides
+from .beam import add_deflection, deflection_at, wavenumber
+from .contact import COMPLIANT_PAD, approach_velocity, thinnest_film_side, thinnest_film_sides
 
 __all__ = ["lankarani_nikravesh", "compliant_force", "face_contact_force", "compliant_jacobian"]
 
@@ -76,7 +76,7 @@ _GAUSS_W = np.array([5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0])
 @jitable
 def _face_depth(q, x, side, film_min, rod_length):
     """The face's penetration ``min_film - xi(x)`` [m] at ``x`` (``film_min``: ``min_film - H/2``)."""
-    return film_min + side * _u2_derivatives(q, x, rod_length)[0]
+    return film_min + side * deflection_at(q, x, rod_length)
 
 
 @jitable
@@ -155,7 +155,7 @@ def face_contact_force(q, q_dot, x0, f, c, pad, rod_length, side, v_minus, width
             for g in range(3):
                 x = 0.5 * (lo + hi) + half * _GAUSS_X[g]
                 delta = _face_depth(q, x, side, film_min, L)
-                rate = side * _u2_derivatives(q_dot, x, L)[0]
+                rate = side * deflection_at(q_dot, x, L)
                 w = half * _GAUSS_W[g] * lankarani_nikravesh(delta, rate, v_minus, stiffness, 1.0, c.restitution)
                 total += w
                 for n in range(N):

@@ -243,7 +243,7 @@ def of_run(result, t, y, phase_side):
         contact = model.compliant_loads(T, Y, side, vel)[1]
     elif restitution:
         for j in np.flatnonzero(side):
-            contact[j] = float(np.dot(Y[j, N:], model.contact_loads(T[j], Y[j], (side[j], vel[j], where[j]))))
+            contact[j] = float(np.dot(Y[j, N:], model.sustained_loads(T[j], Y[j], side[j], where[j])))
     powers["contact"] = contact
     change, loss, collar = impact_terms(impacts, restitution, model.modal_mass, model.config.mechanism.rod_length)
     works, residual = budget(T, table[:, 0], powers, np.flatnonzero(kind == 1), change)
