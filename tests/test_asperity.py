@@ -219,3 +219,31 @@ def test_energy_balance_over_a_phase_of_mixed_lubrication(mixed_run):
     assert abs(E[-1] - E[0]) > 1e4 * worst[2] * abs(work)
     assert abs(V_a[-1] - V_a[0]) > 100 * worst[2] * abs(work)
     assert abs(V_a[-1] - V_a[i0]) > 1e5 * max(phase) * abs(phase_work)
+
+
+def test_guide_mixed_runs_in_mixed_lubrication():
+    """The ``guide-mixed`` scenario (issue 34 item 4): the asperities carry more than the film and the gap stays
+    above contact; its asperity force at the peak against the Greenwood-Tripp pressure integrated here over both
+    faces of the pad from the sampled deflection (scipy.integrate.quad)."""
+    import lubelink
+    from lubelink.config import resolve
+    from lubelink.sweep.compute import regime
+
+    settings = {"solver.t_end": 0.5, "output.x_points": 3}
+    ds, cfg = lubelink.simulate("guide-mixed", settings), resolve("guide-mixed", settings)
+    f, B, L = cfg.film, cfg.beam.width, cfg.mechanism.rod_length
+    assert ds.attrs["status"] == "complete" and regime(ds) == "mixed"
+    asp, film = np.abs(ds.asperity_force.values), np.abs(ds.film_force.values)
+    assert asp.max() > film.max() > 10.0  # [N]; measured 22.2 and 17.7
+    assert ds.film_min.values.min() > cfg.contact.min_film and not ds.contact_force.values.any()
+    i = int(np.argmax(asp))
+    q, x0 = ds.q.values[i], float(ds.x_star.values[i])
+    beta = np.arange(1, q.size + 1) * np.pi / L
+    K = 16 * np.sqrt(2) * np.pi / 15 * f.summit_product**2 * np.sqrt(f.summit_ratio)
+
+    def face(sign):  # the film on the +j (sign 1) or -j (sign -1) face, xi = H/2 -+ u2
+        pa = lambda x: K * f.contact_modulus * f52_closed_form((f.clearance / 2 - sign * np.sin(beta * x) @ q)  # noqa: E731
+                                                               / f.roughness)
+        return -sign * B * integrate.quad(pa, x0, x0 + f.pad_length, limit=400, epsrel=1e-10)[0]
+
+    assert ds.asperity_force.values[i] == pytest.approx(face(1) + face(-1), rel=1e-4)

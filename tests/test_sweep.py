@@ -35,7 +35,7 @@ on_cluster = pytest.mark.xdist_group("sweep-cluster")
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 TINY = {"solver.t_end": 0.1, "output.x_points": 5, "output.pad_points": 5}
 QUANTITIES = ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
-              "peak_film_force", "end_time"]
+              "peak_film_force", "end_time", "regime"]
 
 #: 2 x 6 x 4 = 48 points; with 1 mPa s the film breaks down from 25-30 rad/s on (failing points).
 SWEEP_TOML = """
@@ -54,7 +54,7 @@ mechanism.crank_speed = { start = 20.0, stop = 45.0, num = 6 }
 
 [store]
 quantities = ["peak_u2_mid", "impact_count", "first_impact_time", "peak_pressure", "min_film",
-              "peak_film_force", "end_time"]
+              "peak_film_force", "end_time", "regime"]
 time_series = ["u2_mid"]
 """
 
@@ -175,6 +175,27 @@ def test_summary_quantities_of_one_run():
     assert s["min_film"] == float(ds.film_min.min()) and s["end_time"] == float(ds.time[-1]) > 0.69
     dry = summarise(lubelink.simulate("paper-dry", set={"solver.t_end": 0.05, "output.x_points": 5}))
     assert math.isnan(dry["peak_pressure"]) and math.isnan(dry["first_impact_time"])
+
+
+def test_the_regime_reads_contact_then_the_asperities_share_of_the_film_force():
+    """``regime``: contact before anything else (an impact, a contact force, a breakdown), ``dry``
+    without a film, ``mixed`` only above :data:`MIXED_SHARE` of the film's peak force."""
+    import xarray as xr
+
+    from lubelink.sweep.compute import MIXED_SHARE, regime
+
+    def run(status="complete", impacts=0, **series):
+        return xr.Dataset({k: ("time", np.asarray(v, float)) for k, v in series.items()},
+                          attrs={"status": status, "impact_count": impacts})
+
+    assert regime(run()) == "dry"
+    assert regime(run(film_force=[0.0, -10.0])) == "full film"
+    assert regime(run(film_force=[0.0, -10.0], asperity_force=[0.0, 10 * MIXED_SHARE])) == "full film"
+    assert regime(run(film_force=[0.0, -10.0], asperity_force=[0.0, 10.5 * MIXED_SHARE])) == "mixed"
+    assert regime(run(film_force=[0.0, 0.0], asperity_force=[0.0, 1e-9])) == "mixed"
+    assert regime(run(film_force=[1.0, 1.0], contact_force=[0.0, 1e-6])) == "contact"
+    assert regime(run(impacts=1)) == "contact"
+    assert regime(run("film_breakdown", film_force=[1.0])) == "contact"
 
 
 def test_a_point_that_raises_is_a_failed_record():
@@ -340,6 +361,7 @@ def test_failing_points_are_recorded_and_the_others_complete(reference):
     broken = fast.sel({"mechanism.crank_speed": 40.0, "film.clearance": 1e-3})
     assert broken.end_time.item() < 0.1 and np.isnan(broken.u2_mid.values[-1])  # partial series kept
     assert np.isfinite(broken.u2_mid.values[0]) and np.isfinite(broken.peak_u2_mid.item())
+    assert (fast.regime == "contact").all() and (oil.regime == "full film").all()
 
 
 @on_cluster
@@ -611,10 +633,11 @@ def test_a_sweep_gathers_its_results_on_its_own_clients_event_loop(client, tmp_p
 def test_plot_sweep_draws_maps_curves_and_status(reference, tmp_path, capsys):
     folder, _, _ = reference
     store = str(folder / "ref.zarr")
-    for args in (["--quantity", "peak_u2_mid"],
+    for k, args in enumerate((["--quantity", "peak_u2_mid"],
                  ["--quantity", "status", "--select", "film.clearance=0.003"],
-                 ["--quantity", "peak_pressure", "--select", "film.viscosity=0.1", "--select", "film.clearance=1e-3"]):
-        png = tmp_path / f"{len(args)}.png"
+                 ["--quantity", "regime", "--select", "film.clearance=0.003"],
+                 ["--quantity", "peak_pressure", "--select", "film.viscosity=0.1", "--select", "film.clearance=1e-3"])):
+        png = tmp_path / f"{k}.png"
         assert cli_main(["plot-sweep", store, *args, "-o", str(png)]) == 0
         assert png.stat().st_size > 5000
     assert cli_main(["plot-sweep", store, "--quantity", "peak_u2"]) == 2
@@ -922,7 +945,8 @@ def test_the_regime_quantities_tell_the_regimes_of_examples_sweep_regimes(overri
     from lubelink.sweep.compute import summarise
 
     ds = lubelink.simulate("guide", {"beam.modes": 3, "solver.t_end": 0.5, **overrides})
-    record = summarise(ds, ("peak_asperity_force", "peak_contact_force", "min_film"))
+    record = summarise(ds, ("peak_asperity_force", "peak_contact_force", "min_film", "regime"))
+    assert record["regime"] == ("contact" if contact else "mixed" if asperities else "full film")
     assert record["peak_asperity_force"] == float(np.abs(ds.asperity_force).max())
     assert record["peak_contact_force"] == float(np.abs(ds.contact_force).max())
     assert (record["peak_asperity_force"] > 1.0) == asperities

@@ -18,7 +18,32 @@ import numpy as np
 from .schema import DEFAULT_QUANTITIES, QUANTITIES
 from .spec import config_with
 
-__all__ = ["summarise"]
+__all__ = ["summarise", "regime", "MIXED_SHARE"]
+
+#: The asperities' peak force, as a share of the film's, above which a run is in mixed lubrication.
+MIXED_SHARE = 0.01
+
+
+def regime(ds) -> str:
+    """The lubrication regime of one run's results: ``"contact"``, ``"dry"``, ``"mixed"`` or ``"full film"``.
+
+    ``"contact"``: the collar touched the link (an impact, a compliant contact force, or the run
+    ended at a film breakdown or a penetration); else ``"dry"`` without a film; else ``"mixed"``
+    where the asperities' peak force exceeds :data:`MIXED_SHARE` of the film's (the rough surfaces
+    carry part of the load); else ``"full film"``.
+    """
+    def peak(name):
+        v = np.asarray(ds[name]) if name in ds else np.array([])
+        return float(np.nanmax(np.abs(v))) if v.size else 0.0
+
+    impacts = int(ds.attrs.get("impact_count", ds["impact_time"].size if "impact_time" in ds else 0))
+    if (impacts > 0 or peak("contact_force") > 0.0
+            or str(ds.attrs.get("status", "complete")) in ("film_breakdown", "penetration")):
+        return "contact"
+    if "film_force" not in ds:
+        return "dry"
+    asperity = peak("asperity_force")
+    return "mixed" if asperity > 0.0 and asperity > MIXED_SHARE * peak("film_force") else "full film"
 
 
 # ====================================================================== one point
@@ -53,6 +78,7 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
         "peak_film_force": lambda: peak("film_force"),
         "peak_asperity_force": lambda: peak("asperity_force"),
         "peak_contact_force": lambda: peak("contact_force"),
+        "regime": lambda: regime(ds),
         "end_time": lambda: float(t[-1]) if t.size else math.nan,
         "nfev": lambda: int(ds.attrs.get("nfev", -1)),
         "impact_times": lambda: [float(t) for t in times[:max_impacts]]
@@ -72,7 +98,8 @@ def _empty_record(quantities, max_impacts, status, message, wall_time=math.nan):
     out = {"status": status, "message": message, "wall_time": wall_time}
     for name in quantities:
         kind = QUANTITIES[name][2]
-        out[name] = -1 if kind == "i" else [math.nan] * max_impacts if kind == "impacts" else math.nan
+        out[name] = (-1 if kind == "i" else [math.nan] * max_impacts if kind == "impacts" else "" if kind == "s"
+                     else math.nan)
     return out
 
 
@@ -107,10 +134,11 @@ def _sample(ds, name, n_time, output_step):
     return out
 
 
-#: The variable each summary quantity is computed from.
-_SOURCES = {"peak_u2_mid": "u2_mid", "peak_pressure": "pressure", "min_film": "film_min",
-            "peak_film_force": "film_force", "peak_u3_mid": "u3_mid", "peak_axial": "u1",
-            "peak_asperity_force": "asperity_force", "peak_contact_force": "contact_force"}
+#: The variables each summary quantity is computed from.
+_SOURCES = {"peak_u2_mid": ("u2_mid",), "peak_pressure": ("pressure",), "min_film": ("film_min",),
+            "peak_film_force": ("film_force",), "peak_u3_mid": ("u3_mid",), "peak_axial": ("u1",),
+            "peak_asperity_force": ("asperity_force",), "peak_contact_force": ("contact_force",),
+            "regime": ("film_force", "asperity_force", "contact_force")}
 
 
 def _simulate_point(config, opts):
@@ -121,7 +149,7 @@ def _simulate_point(config, opts):
     from ..results import collect
     from ..simulate import run
 
-    wanted = {_SOURCES[q] for q in opts.quantities if q in _SOURCES} | set(opts.time_series)
+    wanted = {v for q in opts.quantities for v in _SOURCES.get(q, ())} | set(opts.time_series)
     return collect(run(config), variables=wanted, threads=1, config_text=False)
 
 

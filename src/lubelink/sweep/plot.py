@@ -83,6 +83,9 @@ def _shown(c):
 #: run, and is masked (drawn blank, marked x).
 RUN_STATISTICS = ("status", "wall_time", "end_time", "nfev")
 
+#: The order of a categorical quantity's values on a map's colour bar (others follow, sorted).
+ORDER = {"regime": ("full film", "mixed", "contact", "dry")}
+
 
 def _fix_ticks(ax, xlog, ylog, xticks, yticks):
     from ..plots.units import plain_ticks
@@ -171,7 +174,9 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
     categories = None
     if quantity == "status" or values.dtype.kind in "OUS":
         shown = values.values.reshape(-1)[np.broadcast_to(done.values, values.shape).reshape(-1)]
-        categories = sorted({str(v) for v in shown}) or ["(none)"]
+        present = {str(v) for v in shown}
+        categories = [c for c in ORDER.get(quantity, ()) if c in present] + sorted(present - set(ORDER.get(quantity, ())))
+        categories = categories or ["(none)"]
         codes = np.vectorize(lambda v: categories.index(str(v)) if str(v) in categories else -1,
                              otypes=[float])(values.values)
         da = values.copy(data=codes).where(done)
@@ -258,7 +263,7 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
             ax.set_yscale("log")
         _fix_ticks(ax, xlog, ylog, xt, yt)
         ax.set_xlabel(xname)
-        ax.set_ylabel(yname)
+        ax.set_ylabel(yname if k % ncols == 0 else "")  # (facets share their axes)
         if panel is not None:
             ax.set_title(f"{free[2]} = {_shown(sub[free[2]][panel])}", fontsize=9)
         else:

@@ -18,7 +18,7 @@ SWEEP_FORMAT = "1.0"
 
 #: Summary quantities per point: name -> (units, long name, kind). ``kind`` is
 #: ``"f"`` (float, NaN when absent), ``"i"`` (integer, -1 when absent) or
-#: ``"impacts"`` (floats along an extra ``impact`` dimension).
+#: ``"impacts"`` (floats along an extra ``impact`` dimension) or ``"s"`` (a string).
 QUANTITIES = {
     "peak_u2_mid": ("m", "peak absolute midpoint deflection, max |u2_mid|", "f"),
     "impact_count": ("1", "number of impacts", "i"),
@@ -33,12 +33,15 @@ QUANTITIES = {
     "peak_axial": ("m", "peak absolute axial displacement over the link, max |u1| (NaN: planar model)", "f"),
     "peak_asperity_force": ("N", "peak absolute asperity contact force on the link (NaN: smooth surfaces)", "f"),
     "peak_contact_force": ("N", "peak contact force of the collar on the link (NaN: no contact law)", "f"),
+    "regime": ("1", "lubrication regime: full film, mixed (the asperities' peak force over 1 % of the film's), "
+                    "contact (impacts, contact force or breakdown) or dry (no film)", "s"),
 }
 #: What a sweep with spatial points (``beam.model = "spatial"``) stores beside a quantity or time
 #: series it stores: the out-of-plane (and axial) twins of the in-plane ones.
 SPATIAL_COMPANIONS = {"peak_u2_mid": ("peak_u3_mid", "peak_axial"), "u2_mid": ("u3_mid",), "u2": ("u3",)}
 #: Stored when ``[store] quantities`` is not given (and, with spatial points, their companions).
-DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q not in ("impact_times", "peak_asperity_force", "peak_contact_force")
+DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q not in ("impact_times", "peak_asperity_force", "peak_contact_force",
+                                                               "regime")
                            and not any(q in c for c in SPATIAL_COMPANIONS.values()))
 #: Always stored for every point, whatever ``quantities`` says.
 ALWAYS = {
