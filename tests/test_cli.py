@@ -315,10 +315,10 @@ def test_a_compile_failure_is_status_2_with_numba_and_a_named_fallback_with_auto
 
     real = integrate.integrate
 
-    def failing(*args, compiled=False, **kwargs):
-        if compiled:
+    def failing(*args, **kwargs):
+        if kwargs["options"].compiled:
             raise TypingError("a kernel that does not type")
-        return real(*args, compiled=compiled, **kwargs)
+        return real(*args, **kwargs)
 
     monkeypatch.setattr(integrate, "integrate", failing)
     args = ["run", "--no-output", "--set", f"solver.backend='{backend}'", "--set", "solver.t_end=0.02",

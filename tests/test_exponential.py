@@ -12,7 +12,7 @@ import pytest
 
 from lubelink._jit import kernel
 from lubelink.integrate import exponential as E
-from lubelink.integrate import integrate, method
+from lubelink.integrate import Options, Problem, integrate, method
 from lubelink.integrate._layout import F_DIR, F_MAXSTEP, F_TEND, R_ATOL, R_F, R_RTOL, R_Y
 
 
@@ -38,9 +38,9 @@ def no_event(t, y, p):
 
 def run_exp(p, t_end, rtol=1e-8, atol=1e-12, t_eval=None, **kw):
     omegas = p[3:]
-    return integrate(method("exponential"), forced, no_event, np.asarray(p, float), 0.0, np.zeros(2 * len(omegas)),
-                     t_end, np.zeros(0) if t_eval is None else t_eval, rtol=rtol, atol=atol,
-                     options={"omega": omegas, "zeta": p[0]}, **kw)
+    return integrate(method("exponential"), Problem(forced, no_event, np.asarray(p, float), omega=omegas, zeta=p[0]), 0.0,
+                     np.zeros(2 * len(omegas)), t_end, np.zeros(0) if t_eval is None else t_eval,
+                     Options(rtol=rtol, atol=atol, **kw))
 
 
 def free_exact(t, w, zeta, x0, v0):
@@ -59,8 +59,8 @@ def free(t, y, out, p):
 
 def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
     w, zeta = 300.0, 0.02
-    seg = integrate(method("exponential"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]), 2.0,
-                    np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
+    seg = integrate(method("exponential"), Problem(free, no_event, np.array([w, zeta]), omega=[w], zeta=zeta), 0.0,
+                    np.array([1e-3, 0.0]), 2.0, np.linspace(0.1, 2.0, 20), Options(rtol=1e-12, atol=1e-18))
     # the load is zero: the error estimates vanish and the step grows tenfold each time
     assert seg.nsteps < 12
     np.testing.assert_allclose(seg.y[:, 0], free_exact(seg.t, w, zeta, 1e-3, 0.0), rtol=0, atol=1e-15)
@@ -146,7 +146,7 @@ def test_the_steps_do_not_follow_the_stiffest_frequency():
     for w_max in (1e2, 1e4):
         p = np.array([0.01, 0.0, 3.0, 10.0, w_max])
         steps.append(run_exp(p, 2.0, rtol=1e-8, atol=1e-10).nsteps)
-        dop.append(integrate(method("DOP853"), forced, no_event, p, 0.0, np.zeros(4), 2.0, np.zeros(0), rtol=1e-8,
-                             atol=1e-10).nsteps)
+        dop.append(integrate(method("DOP853"), Problem(forced, no_event, p), 0.0, np.zeros(4), 2.0, np.zeros(0),
+                             Options(rtol=1e-8, atol=1e-10)).nsteps)
     assert steps[1] <= 1.2 * steps[0], steps  # measured 186, 84
     assert dop[1] > 10 * dop[0], dop  # measured 276, 4177: its stability bound

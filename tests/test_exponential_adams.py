@@ -16,7 +16,7 @@ import numpy as np
 
 from lubelink.config import resolve
 from lubelink.integrate import exponential_adams as A
-from lubelink.integrate import integrate, method
+from lubelink.integrate import Options, Problem, integrate, method
 from test_exponential import forced, free, free_exact, no_event
 
 run = importlib.import_module("lubelink.simulate").run
@@ -24,15 +24,15 @@ run = importlib.import_module("lubelink.simulate").run
 
 def run_adams(p, t_end, rtol=1e-8, atol=1e-12, t_eval=None, **kw):
     omegas = p[3:]
-    return integrate(method("exponential-adams"), forced, no_event, np.asarray(p, float), 0.0,
-                     np.zeros(2 * len(omegas)), t_end, np.zeros(0) if t_eval is None else t_eval, rtol=rtol,
-                     atol=atol, options={"omega": omegas, "zeta": p[0]}, **kw)
+    return integrate(method("exponential-adams"), Problem(forced, no_event, np.asarray(p, float), omega=omegas, zeta=p[0]),
+                     0.0, np.zeros(2 * len(omegas)), t_end, np.zeros(0) if t_eval is None else t_eval,
+                     Options(rtol=rtol, atol=atol, **kw))
 
 
 def test_a_free_damped_oscillator_is_integrated_exactly_in_long_steps():
     w, zeta = 300.0, 0.02
-    seg = integrate(method("exponential-adams"), free, no_event, np.array([w, zeta]), 0.0, np.array([1e-3, 0.0]),
-                    2.0, np.linspace(0.1, 2.0, 20), rtol=1e-12, atol=1e-18, options={"omega": [w], "zeta": zeta})
+    seg = integrate(method("exponential-adams"), Problem(free, no_event, np.array([w, zeta]), omega=[w], zeta=zeta), 0.0,
+                    np.array([1e-3, 0.0]), 2.0, np.linspace(0.1, 2.0, 20), Options(rtol=1e-12, atol=1e-18))
     assert seg.nsteps < 40  # the error estimates vanish: from the starting step on, the step doubles (MAX_GROWTH)
     np.testing.assert_allclose(seg.y[:, 0], free_exact(seg.t, w, zeta, 1e-3, 0.0), rtol=0, atol=1e-15)
 
@@ -85,8 +85,8 @@ def test_error_follows_the_tolerance_and_the_dense_output_is_accurate():
     """At 20 samples between the steps (dense output), against DOP853 at rtol 1e-13."""
     p = np.array([0.01, 2.0, 3.0, 50.0, 400.0])
     t_eval = np.linspace(0.1, 2.0, 20) + 1.234e-3
-    ref = integrate(method("DOP853"), forced, no_event, p, 0.0, np.zeros(4), 2.0 + 1.234e-3, t_eval, rtol=1e-13,
-                    atol=1e-18).y
+    ref = integrate(method("DOP853"), Problem(forced, no_event, p), 0.0, np.zeros(4), 2.0 + 1.234e-3, t_eval,
+                    Options(rtol=1e-13, atol=1e-18)).y
     ratios = []
     for rtol in (1e-6, 1e-8, 1e-10):
         seg = run_adams(p, t_eval[-1], rtol=rtol, atol=rtol * 1e-4, t_eval=t_eval)

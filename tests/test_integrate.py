@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from lubelink._jit import kernel
-from lubelink.integrate import COMPILED_METHODS, integrate, method
+from lubelink.integrate import COMPILED_METHODS, Options, Problem, integrate, method
 from lubelink.integrate.bulirsch_stoer import BulirschStoer
 
 
@@ -35,9 +35,10 @@ def exact(t, w):
     return np.array([np.cos(w * t), -w * np.sin(w * t)])
 
 
-def solve(t_end, p, m, compiled=True, event=None, **kw):
-    return integrate(method(m), oscillator, level if event is None else event, np.asarray(p, float), 0.0,
-                     np.array([1.0, 0.0]), t_end, kw.pop("t_eval", np.zeros(0)), compiled=compiled, **kw)
+def solve(t_end, p, m, compiled=True, event=None, event_sign=0, progress=None, t_eval=np.zeros(0), **kw):
+    return integrate(method(m), Problem(oscillator, level if event is None else event, np.asarray(p, float)), 0.0,
+                     np.array([1.0, 0.0]), t_end, t_eval, Options(compiled=compiled, **kw), event_sign=event_sign,
+                     progress=progress)
 
 
 @pytest.mark.parametrize("m", ["DOP853", "bulirsch-stoer"])
@@ -143,8 +144,8 @@ def exact_method(h):
 @pytest.mark.parametrize("depth", [1e-8, 1e-12, 1e-14])
 def test_the_detector_finds_a_dip_of_any_duration(depth):
     """``cos t`` below ``-(1 - depth)`` for ``2 sqrt(2 depth)`` (283 us, 2.8 us, 0.28 us) inside 0.5 s steps."""
-    seg = integrate(exact_method(0.5), oscillator, level, np.array([1.0, -(1.0 - depth)]), 0.0, np.array([1.0, 0.0]),
-                    4.0, np.zeros(0), compiled=False, event_sign=-1)
+    seg = integrate(exact_method(0.5), Problem(oscillator, level, np.array([1.0, -(1.0 - depth)])), 0.0,
+                    np.array([1.0, 0.0]), 4.0, np.zeros(0), Options(compiled=False), event_sign=-1)
     assert seg.status == "event"
     # the crossing time is ill-conditioned for a shallow dip: cos t is known to 1e-16 where its slope
     # is sqrt(2 depth), which at depth 1e-14 leaves the time a few parts in a thousand uncertain
@@ -194,8 +195,8 @@ def test_the_rate_bound_skips_samples_but_no_zero(m):
     t_exact = brentq(g, grid[first - 1], grid[first], xtol=1e-15)
     found = []
     for event in (sum_level, sum_level_unbounded):
-        seg = integrate(method(m), two_oscillators, event, p, 0.0, y0, 4.0, np.zeros(0), rtol=1e-11, atol=1e-13,
-                        event_sign=-1, event_resolution=2 * np.pi / 41 / 4, options={"omega": p[:2], "zeta": 0.0})
+        seg = integrate(method(m), Problem(two_oscillators, event, p, omega=p[:2], zeta=0.0), 0.0, y0, 4.0, np.zeros(0),
+                        Options(rtol=1e-11, atol=1e-13, event_resolution=2 * np.pi / 41 / 4), event_sign=-1)
         assert seg.status == "event"
         found.append(seg.t_final)
     assert found[0] == pytest.approx(t_exact, abs=1e-8)
@@ -220,16 +221,26 @@ def test_progress_and_deadline():
     assert 0.0 < late.t_final < 50.0 and np.all(np.isfinite(late.y_final))
 
 
-def test_the_calls_into_compiled_code_change_nothing_but_their_number():
-    """The first call's step budget (``steps_per_call``) and the budget handed on: the same samples to the bit."""
+def test_the_calls_into_compiled_code_change_nothing_but_their_number(monkeypatch):
+    """The first call's step budget (the driver's ``BUDGETS``, what the last integration of the kind measured)
+    and the budget it keeps: the same samples to the bit."""
+    import numba
+
+    from lubelink.integrate import driver
+
     t_eval = np.linspace(0.1, 20.0, 200)
-    segs = [solve(20.0, [2 * np.pi], "DOP853", rtol=1e-8, atol=1e-11, t_eval=t_eval, steps_per_call=k)
-            for k in (1, 64, 10**6)]
+    p = np.array([2 * np.pi])
+    key = (method("DOP853").name, id(numba.typeof(p)))
+    segs = []
+    for k in (1, 64, 10**6):
+        monkeypatch.setitem(driver.BUDGETS, key, k)
+        segs.append(solve(20.0, p, "DOP853", rtol=1e-8, atol=1e-11, t_eval=t_eval))
+        segs[-1].extra["kept"] = driver.BUDGETS[key]
     for seg in segs[1:]:
         np.testing.assert_array_equal(seg.y, segs[0].y)
         assert seg.nsteps == segs[0].nsteps
-    assert segs[2].extra["steps_per_call"] == 10**6  # one call: nothing measured, the budget handed on unchanged
-    assert 16 <= segs[0].extra["steps_per_call"] <= 1_000_000  # measured after the first call
+    assert segs[2].extra["kept"] == 10**6  # one call: nothing measured, the budget kept unchanged
+    assert 16 <= segs[0].extra["kept"] <= 1_000_000  # measured after the first call
 
 
 def test_scipy_methods_share_the_driver():

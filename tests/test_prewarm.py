@@ -93,6 +93,7 @@ def _first(monkeypatch, tmp_path, warm=False, busy=False, limit=None):
     monkeypatch.setattr(_prewarm, "_lock_path", lambda dispatcher: str(tmp_path / "compile.lock"))
     started = []
     monkeypatch.setattr(_prewarm.subprocess, "Popen", lambda *a, **k: started.append(a) or _NoProcess())
+    monkeypatch.setattr(_prewarm, "compile_on_two_cores", lambda model, motion=None: started.append("compile"))
     if limit is not None:
         monkeypatch.setattr(_prewarm, "FIRST_RUN_LIMIT", limit)
     model = build_model(resolve("paper", {"solver.t_end": 0.2}))
@@ -127,7 +128,10 @@ def test_a_cold_short_run_runs_as_python_and_compiles_in_the_background(monkeypa
 
 def test_a_cold_long_run_compiles_in_the_foreground(monkeypatch, tmp_path):
     model, chosen, started = _first(monkeypatch, tmp_path, limit=0.0)
-    assert chosen is model and started == []
+    assert chosen is model and started == ["compile"]
+    said = []
+    monkeypatch.setattr(_prewarm, "_WARM", {})
+    assert _prewarm.first_run(model, say=said.append) is model and said == [_prewarm.COMPILING]
 
 
 def test_while_a_background_compile_runs_a_short_run_is_python_and_starts_no_second(monkeypatch, tmp_path):
@@ -135,12 +139,16 @@ def test_while_a_background_compile_runs_a_short_run_is_python_and_starts_no_sec
     assert not chosen.compiled and "being built in the background" in chosen.backend_note and started == []
 
 
-@pytest.mark.parametrize("env", [{"LUBELINK_FIRST_RUN": "compile"}, {"LUBELINK_PREWARM": "0"}])
-def test_the_environment_turns_it_off(monkeypatch, tmp_path, env):
-    model, _, _ = _first(monkeypatch, tmp_path)
+@pytest.mark.parametrize("env, compiles", [({"LUBELINK_FIRST_RUN": "compile"}, True), ({"LUBELINK_PREWARM": "0"}, False)])
+def test_the_environment_turns_it_off(monkeypatch, tmp_path, env, compiles):
+    """``LUBELINK_FIRST_RUN=compile`` compiles first on two cores, ``LUBELINK_PREWARM=0`` leaves the compile to
+    the run (where each kernel is first called)."""
+    model, _, started = _first(monkeypatch, tmp_path)
+    started.clear()
     for name, value in env.items():
         monkeypatch.setenv(name, value)
     assert _prewarm.first_run(model) is model
+    assert started == (["compile"] if compiles else [])
 
 
 def test_the_numpy_estimate_prices_the_results_of_a_film_only():

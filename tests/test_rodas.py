@@ -13,7 +13,7 @@ import pytest
 from scipy.linalg import expm
 
 from lubelink._jit import kernel
-from lubelink.integrate import integrate, method
+from lubelink.integrate import Options, Problem, integrate, method
 from lubelink.integrate.rodas import lu_factor, lu_solve
 
 
@@ -52,8 +52,8 @@ def _stiff_matrix():
 
 def _constant_steps(rhs, p, y0, t_end, h, t_eval=np.zeros(0), compiled=True):
     """Steps of exactly ``h``: tolerances so loose that every step is accepted, ``max_step = h``."""
-    return integrate(method("rodas"), rhs, level, p, 0.0, y0, t_end, t_eval, rtol=1e6, atol=1e6, max_step=h,
-                     compiled=compiled)
+    return integrate(method("rodas"), Problem(rhs, level, p), 0.0, y0, t_end, t_eval,
+                     Options(rtol=1e6, atol=1e6, max_step=h, compiled=compiled))
 
 
 def test_lu_factor_solves_like_numpy():
@@ -105,8 +105,8 @@ def test_stiff_linear_system_against_the_matrix_exponential(jacobian):
     y0 = np.array([1.0, 0.5, -0.3, 0.2])
     t_eval = np.linspace(0.1, 2.0, 20)
     for rtol in (1e-4, 1e-6, 1e-8, 1e-10) if jacobian else (1e-4, 1e-6):
-        seg = integrate(method("rodas"), linear, level, M, 0.0, y0, 2.0, t_eval, rtol=rtol, atol=rtol * 1e-3,
-                        options={"jacobian": jacobian})
+        seg = integrate(method("rodas"), Problem(linear, level, M, jacobian=jacobian), 0.0, y0, 2.0, t_eval,
+                        Options(rtol=rtol, atol=rtol * 1e-3))
         assert seg.status == "finished"
         err = max(np.abs(y - expm(M * t) @ y0).max() for t, y in zip(seg.t, seg.y))
         assert err < 50 * rtol, (rtol, err)
@@ -122,8 +122,8 @@ def test_prothero_robinson_time_dependent_stiff():
     """
     for rtol in (1e-5, 1e-8):
         for t_end in (0.7, 2.0, 5.0):
-            seg = integrate(method("rodas"), prothero_robinson, level, np.array([1e6]), 0.0, np.array([1.0]), t_end,
-                            np.zeros(0), rtol=rtol, atol=rtol)
+            seg = integrate(method("rodas"), Problem(prothero_robinson, level, np.array([1e6])), 0.0, np.array([1.0]),
+                            t_end, np.zeros(0), Options(rtol=rtol, atol=rtol))
             assert seg.status == "finished"
             assert abs(seg.y_final[0] - np.cos(t_end)) < 10 * rtol
             assert seg.nsteps < 200
@@ -131,8 +131,8 @@ def test_prothero_robinson_time_dependent_stiff():
 
 def test_event_located_on_the_dense_output():
     """``y = cos t`` falls to 0.5 at ``t = pi / 3``."""
-    seg = integrate(method("rodas"), prothero_robinson, level, np.array([10.0]), 0.0, np.array([1.0]), 5.0,
-                    np.zeros(0), rtol=1e-8, atol=1e-10, event_sign=-1)
+    seg = integrate(method("rodas"), Problem(prothero_robinson, level, np.array([10.0])), 0.0, np.array([1.0]), 5.0,
+                    np.zeros(0), Options(rtol=1e-8, atol=1e-10), event_sign=-1)
     assert seg.status == "event"
     assert abs(seg.t_final - np.pi / 3) < 1e-7
 
@@ -177,8 +177,8 @@ def test_the_second_order_form_is_solved_through_half_the_unknowns():
         assert _second_order(M)
         runs = {}
         for jacobian in (True, False):
-            seg = integrate(method("rodas"), oscillators, level, p, 0.0, y0, 1.0, t_eval, rtol=1e-6, atol=1e-9,
-                            options={"jacobian": jacobian})
+            seg = integrate(method("rodas"), Problem(oscillators, level, p, jacobian=jacobian), 0.0, y0, 1.0, t_eval,
+                            Options(rtol=1e-6, atol=1e-9))
             assert seg.status == "finished"
             err = max(np.abs(y - expm(M * t) @ y0).max() for t, y in zip(seg.t, seg.y))
             assert err < 300 * 1e-6, (damping, jacobian, err)  # as tests/test_integrate.py

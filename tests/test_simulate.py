@@ -323,18 +323,17 @@ def test_auto_picks_the_adams_method_for_the_planar_link_without_a_film_or_witho
 def test_a_run_like_an_earlier_one_starts_with_its_measured_step_budget(monkeypatch):
     """The second run of a configuration hands its first segment the step budget the first run measured
     (one call into compiled code for a short run), and gives the same samples to the bit."""
-    import importlib
+    from lubelink.integrate import driver
 
-    sim = importlib.import_module("lubelink.simulate")  # (the package's ``simulate`` is the function)
     config = resolve("paper-dry", {"beam.modes": 2, "solver.t_end": 0.1})
     first = run(config)
     if not first.model.compiled:
         pytest.skip("the step budget is the compiled loop's")
-    budget = sim._STEP_BUDGETS[("exponential-adams", id(first.model.params_type))]
+    budget = driver.BUDGETS[("exponential-adams", id(first.model.params_type))]
     assert budget >= 16
     asked = []
-    real = sim.integrate.integrate
-    monkeypatch.setattr(sim.integrate, "integrate", lambda *a, **k: asked.append(k["steps_per_call"]) or real(*a, **k))
+    real = driver._first_budget
+    monkeypatch.setattr(driver, "_first_budget", lambda key, deadline: asked.append(real(key, deadline)) or asked[-1])
     second = run(config)
     assert asked == [budget]
     np.testing.assert_array_equal(second.y, first.y)

@@ -37,7 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["jitable", "kernel", "stack_empty", "ENABLED", "UNCOUNTED", "package_stamp", "NumbaUnavailable"]
+__all__ = ["jitable", "kernel", "stack_empty", "ENABLED", "UNCOUNTED", "package_stamp", "NumbaUnavailable",
+           "compile_errors"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _MARKERS = (b"@jitable", b"@kernel")
@@ -89,6 +90,15 @@ class NumbaUnavailable(RuntimeError):
 
 
 @lru_cache(maxsize=1)
+def compile_errors() -> tuple:
+    """The exception types of a failed compilation (empty without Numba): ``except compile_errors():``."""
+    try:
+        from numba.core.errors import NumbaError
+    except ImportError:
+        return ()
+    return (NumbaError,)
+
+
 def package_stamp() -> bytes:
     """SHA-256 of every source file of the package that holds ``@jitable`` or ``@kernel`` code."""
     digest = hashlib.sha256()

@@ -36,9 +36,9 @@ import subprocess
 import sys
 import time
 
-from ._jit import cores
+from ._jit import compile_errors, cores
 
-__all__ = ["start", "wait", "first_run"]
+__all__ = ["start", "wait", "first_run", "compile_on_two_cores"]
 
 #: Longest wait for the helper [s]: beyond it this process compiles what it still needs itself.
 WAIT_LIMIT = 120.0
@@ -153,21 +153,24 @@ def _compiling(path) -> bool:
 _BACKGROUND: list = []
 
 
-def first_run(model, motion=None):
-    """``model``, or its ``numpy``-backend copy for a cold short run, a background compile started.
+def first_run(model, motion=None, say=None):
+    """The model a first run uses, with what it needs compiled: the one policy of :func:`lubelink.simulate`
+    and ``lubelink run`` (:func:`lubelink.simulate.run` itself only runs; a kernel not compiled yet is
+    compiled where it is first called, in one process).
 
-    Applies to ``solver.backend = "auto"`` with a compiled method, the planar model and the
-    slider-crank, when this configuration's right-hand side is not in the on-disk cache and the run
-    and its results are estimated within :data:`FIRST_RUN_LIMIT` as Python (see the module).
+    With compiled kernels that are neither loaded nor in the on-disk cache: a run estimated within
+    :data:`FIRST_RUN_LIMIT` as Python (``solver.backend = "auto"``) gets ``model``'s ``numpy``-backend
+    copy while a background process compiles (see the module); any other is compiled here, on two cores
+    (:func:`compile_on_two_cores`), after ``say(line)`` has told how long that takes. Planar models and the
+    slider-crank only, on POSIX, unless ``LUBELINK_PREWARM=0``; ``LUBELINK_FIRST_RUN=compile`` always
+    compiles first.
     """
     config = model.config
-    if (not _helped(model, motion) or config.solver.backend != "auto"
-            or os.environ.get("LUBELINK_FIRST_RUN", "python") == "compile"):
-        return model
     from . import integrate
     from .choice import method_name
 
-    if method_name(config) not in integrate.COMPILED_METHODS:
+    if (not _helped(model, motion) or not model.compiled
+            or method_name(config) not in integrate.COMPILED_METHODS):
         return model
     p_type = model.params_type
     if id(p_type) in _WARM:
@@ -183,15 +186,33 @@ def first_run(model, motion=None):
     if not busy and _is_warm(rhs, signatures(p_type)[0].args):
         _WARM[id(p_type)] = p_type
         return model
+    if config.solver.backend == "auto" and os.environ.get("LUBELINK_FIRST_RUN", "python") != "compile":
+        chosen = _as_python(model, lock, busy)
+        if chosen is not None:
+            return chosen
+    if say is not None:
+        say(COMPILING)
+    compile_on_two_cores(model, motion)
+    return model
+
+
+#: What a first run that compiles says before it does.
+COMPILING = "compiling the kernels, once for this configuration's kind (about 30-60 s; cached on disk)"
+
+
+def _as_python(model, lock, busy):
+    """``model``'s ``numpy``-backend copy for a short cold run (a background compile started unless ``busy``),
+    or None when the run would be long as Python."""
     from dataclasses import replace
 
     from .assembly import interpreted
     from .estimate import duration, results_cost, run_cost
 
+    config = model.config
     as_python = replace(config, solver=replace(config.solver, backend="numpy"))
     seconds = run_cost(as_python).seconds + results_cost(as_python)
     if seconds > FIRST_RUN_LIMIT:
-        return model
+        return None
     if busy:
         return interpreted(model, "the compiled kernels are being built in the background; later runs use them")
     from .config import to_toml
@@ -204,10 +225,28 @@ def first_run(model, motion=None):
         proc.stdin.write(to_toml(config).encode())
         proc.stdin.close()
     except OSError:
-        return model
+        return None
     _BACKGROUND.append(proc)
     return interpreted(model, f"a first run: Python, about {duration(seconds)}, while the compiled kernels are "
                               f"built in the background, pid {proc.pid}; later runs use them")
+
+
+def compile_on_two_cores(model, motion=None):
+    """Compile ``model``'s integration method, its driver and the results here while a helper process
+    compiles the right-hand side and the gap (:func:`start`); nothing with one core or a warm cache."""
+    helper = start(model, motion)
+    if helper is None:
+        return
+    from . import integrate
+    from .choice import method_name
+    from .integrate.driver import precompile
+
+    try:
+        precompile(integrate.method(method_name(model.config)), model.params_type)
+        compile_results(model)
+    except compile_errors():
+        return  # the run itself meets the error and falls back
+    wait(helper)
 
 
 def _stop(proc):

@@ -283,7 +283,8 @@ def _cmd_run(args):
 
     show = not args.quiet and on_terminal(sys.stderr)  # never into a redirected log
     with Progress(config.solver.t_end, sys.stderr, delay=PROGRESS_DELAY) if show else _nothing() as bar:
-        result = run(config, progress=bar.update if show else None, model=first_run(build_model(config)))
+        say = bar.phase if show else None if args.quiet else lambda line: print(f"lubelink: {line}", file=sys.stderr)
+        result = run(config, progress=bar.update if show else None, model=first_run(build_model(config), say=say))
         if show:
             bar.phase("sampling the results")
         results = collect(result)

@@ -14,6 +14,7 @@ import numpy as np
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
+from ._jit import compile_errors
 from ._prewarm import first_run
 from .assembly import compile_failed
 from .build import build_model
@@ -82,39 +83,6 @@ def domain_exit(model, y):
                "(raise the limit, or set it to inf, to go on regardless)")
 
 
-def _compile_errors():
-    try:
-        from numba.core.errors import NumbaError
-    except ImportError:  # pragma: no cover
-        return ()
-    return (NumbaError,)
-
-
-def _compile_on_two_cores(model, motion, method):
-    """On a cold cache, compile the integration method, its driver and the results here while a
-    helper process compiles the right-hand side and the gap (:mod:`lubelink._prewarm`)."""
-    from . import _prewarm
-
-    helper = _prewarm.start(model, motion)
-    if helper is None:
-        return
-    from .integrate.driver import precompile
-
-    try:
-        precompile(method, model.params_type)
-        _prewarm.compile_results(model)
-    except _compile_errors():
-        return  # the run itself meets the error and falls back
-    _prewarm.wait(helper)
-
-
-#: ``(method, id(parameter type))``: the step budget of a call into compiled code measured by the
-#: last run of that kind (:func:`run`): a run like an earlier one takes one call for a short segment
-#: instead of a first call of ``integrate.STEPS_PER_CALL`` steps (about 50 us each; the driver keeps
-#: to those before a nearer deadline). Numba's types are interned, so their identities stay unique.
-_STEP_BUDGETS: dict = {}
-
-
 def _compiled_loop(model, method):
     """Whether ``model`` integrates in the compiled loop with ``method`` (its name)."""
     return model.compiled and method in integrate.COMPILED_METHODS
@@ -174,13 +142,10 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     resolution = event_resolution(model)
     out_method = method_name(config)
     method = integrate.method(out_method)
-    options = {"omega": model.state_frequencies, "zeta": config.beam.damping_ratio}
     stiff = out_method == "rodas"
     if stiff:
         missing = model.jacobian_missing(None)
         note = "Jacobian analytic" if not missing else f"Jacobian by finite differences: {missing}"
-    if _compiled_loop(model, out_method):
-        _compile_on_two_cores(model, motion, method)
     t = 0.0
     y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(model.initial_state().size)
     ts, ys, sides, vs, points = [t_eval[:1]], [y[None, :]], [np.zeros(1)], [np.zeros(1)], [np.zeros(1)]
@@ -192,23 +157,21 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         out.status, out.message, out.event_time = "out_of_domain", f"at t = 0 s: {exited[1]}", 0.0
     y = model.to_state(y)
     sustained = config.contact.law == "restitution"
-    budget_key = (out_method, id(model.params_type)) if _compiled_loop(model, out_method) else None
-    steps_per_call = _STEP_BUDGETS.get(budget_key, integrate.STEPS_PER_CALL)  # then each segment's measured budget
     while exited is None:
         event_sign = 0 if not monitored else (-1 if phase is None or sustained else 1)
         compiled_loop = _compiled_loop(model, out_method)
-        if stiff:
-            options["jacobian"] = not model.jacobian_missing(phase)
-            if not options["jacobian"] and "finite differences" not in note:
-                note += f"; by finite differences in {model.jacobian_missing(phase)}"
+        jacobian = stiff and not model.jacobian_missing(phase)
+        if stiff and not jacobian and "finite differences" not in note:
+            note += f"; by finite differences in {model.jacobian_missing(phase)}"
+        problem = integrate.Problem(*model.functions(), model.with_phase(phase),
+                                    p_type=model.params_type if compiled_loop else None,
+                                    omega=model.state_frequencies, zeta=config.beam.damping_ratio, jacobian=jacobian)
+        options = integrate.Options(rtol=s.rtol, atol=s.atol, max_step=s.max_step, event_resolution=resolution,
+                                    deadline=deadline, compiled=compiled_loop)
         try:
-            seg = integrate.integrate(method, *model.functions(), model.with_phase(phase), t, y, s.t_end,
-                                      t_eval[t_eval > t], rtol=s.rtol, atol=s.atol, max_step=s.max_step,
-                                      event_sign=event_sign, event_resolution=resolution,
-                                      deadline=deadline, progress=progress, compiled=compiled_loop,
-                                      options=options, p_type=model.params_type if compiled_loop else None,
-                                      steps_per_call=steps_per_call)
-        except _compile_errors() as exc:
+            seg = integrate.integrate(method, problem, t, y, s.t_end, t_eval[t_eval > t], options=options,
+                                      event_sign=event_sign, progress=progress)
+        except compile_errors() as exc:
             if not model.compiled:
                 raise
             if s.backend == "numba":
@@ -229,9 +192,6 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         points.append(np.full(seg_t.size, 0.0 if phase is None or len(phase) < 3 else float(phase[2])))
         out.nfev += seg.nfev
         out.nsteps += seg.nsteps
-        steps_per_call = seg.extra["steps_per_call"]
-        if compiled_loop:
-            _STEP_BUDGETS[budget_key] = steps_per_call
         if exited is not None:
             out.status, out.event_time = "out_of_domain", float(seg_t[-1])
             out.message = f"at t = {seg_t[-1]:.9g} s: {exited[1]}"

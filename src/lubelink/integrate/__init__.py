@@ -24,10 +24,11 @@ arguments.
 from functools import lru_cache
 from importlib import import_module
 
-from .driver import STEPS_PER_CALL, Method, Segment, integrate
+from .driver import STEPS_PER_CALL, Method, Options, Problem, Segment, integrate
 from .scipy_methods import SCIPY_METHODS, scipy_method
 
-__all__ = ["METHODS", "COMPILED_METHODS", "SCIPY_METHODS", "STEPS_PER_CALL", "method", "integrate", "Method", "Segment"]
+__all__ = ["METHODS", "COMPILED_METHODS", "SCIPY_METHODS", "STEPS_PER_CALL", "method", "integrate", "Problem", "Options",
+           "Method", "Segment"]
 
 #: Methods whose loop runs compiled, and their modules (imported when first asked for); a method's
 #: dense output lives in its module, or in the second module named.

@@ -38,10 +38,17 @@ from ._layout import (EVENT, F_BOLD, F_DIR, F_GOLD, F_DOLD, F_HSTEP, F_MAXSTEP, 
 from .control import EPS, TOO_SMALL_STEP
 from .events import locate
 
-__all__ = ["Segment", "Method", "integrate", "advance", "first_class", "precompile", "STEPS_PER_CALL"]
+__all__ = ["Segment", "Problem", "Options", "Method", "integrate", "advance", "first_class", "precompile",
+           "STEPS_PER_CALL", "BUDGETS"]
 
 #: Steps of the first call into compiled code; later calls take as many as fill :data:`CALL_SECONDS`.
 STEPS_PER_CALL = 64
+#: The step budget of a call into compiled code that the last integration of a kind measured, by
+#: ``(method name, id(Numba type of p))``: the next one of that kind (the next segment of a run, a run
+#: like an earlier one) starts with it, so a short segment takes one call (each costs about 50 us to
+#: convert the arguments) instead of a first one of :data:`STEPS_PER_CALL` steps. Numba's types are
+#: interned, so their identities stay unique.
+BUDGETS: dict = {}
 #: Wall time of one call into compiled code [s] between returns to Python (deadline, progress).
 CALL_SECONDS = 0.05
 #: With a progress callback, calls end at least every this fraction of the interval (a deadline
@@ -72,11 +79,48 @@ class Segment:
 
 
 @dataclass(frozen=True)
+class Problem:
+    """What to integrate: ``dy/dt = rhs(t, y)`` with the event ``g`` (signatures in the module docstring).
+
+    ``p`` goes to both (its Numba type ``p_type`` if known: ``numba.typeof`` of a large named tuple
+    costs a fraction of a millisecond). ``omega`` [rad/s] and ``zeta`` [-] are the linear part, one
+    per oscillator of the state ``[x, x_dot]`` (the exponential methods integrate it exactly);
+    ``jacobian`` says that ``rhs`` writes its Jacobian when handed an output of ``n + n^2`` entries
+    (RODAS4; else it forms the Jacobian by differences).
+    """
+
+    rhs: object
+    event: object
+    p: object
+    p_type: object = None
+    omega: object = None
+    zeta: object = 0.0
+    jacobian: bool = False
+
+
+@dataclass(frozen=True)
+class Options:
+    """How to integrate: tolerances (``rtol``, ``atol``, scalars or per component), the largest step,
+    the longest interval between two samples of the event inside a step (``event_resolution``, None:
+    the step), a ``time.perf_counter()`` ``deadline`` (status ``"timeout"``), whether the loop runs
+    ``compiled`` (kernels as first-class functions) or as Python (the method's ``py_func``), and the
+    method's own settings (``method``, e.g. Bulirsch-Stoer's ``max_order``)."""
+
+    rtol: object = 1e-3
+    atol: object = 1e-6
+    max_step: float = np.inf
+    event_resolution: float | None = None
+    deadline: float | None = None
+    compiled: bool = ENABLED
+    method: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
 class Method:
     """An integration method: its kernels, the rows of ``W`` it needs, and how it is set up.
 
-    ``setup(W, fst, ist, options)`` fills the method's own slots (e.g. the linear part of the
-    exponential method) before the first call.
+    ``setup(W, fst, ist, settings)`` fills the method's own slots before the first call from
+    ``settings``: the problem's ``omega``, ``zeta`` and ``jacobian`` and the options' ``method`` dict.
     """
 
     name: str
@@ -271,97 +315,88 @@ def precompile(method, p_type):
 
 
 # --- the Python side of a segment -------------------------------------------------------------------
-def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1e-6, max_step=np.inf,
-              event_sign=0, event_resolution=None, deadline=None, progress=None, compiled=ENABLED, options=None,
-              p_type=None, steps_per_call=STEPS_PER_CALL):
-    """Integrate ``dy/dt = rhs(t, y)`` from ``t0`` to ``t_end`` or the first zero of ``-event_sign * g``.
+def _first_budget(key, deadline):
+    """Steps of the first call into compiled code: the budget :data:`BUDGETS` holds for ``key``, at most
+    :data:`STEPS_PER_CALL` before a deadline nearer than :data:`CALL_SECONDS` (its return checks it)."""
+    steps = BUDGETS.get(key, STEPS_PER_CALL)
+    near = deadline is not None and deadline - time.perf_counter() <= CALL_SECONDS
+    return min(steps, STEPS_PER_CALL) if near else steps
+
+
+def integrate(method, problem, t0, y0, t_end, t_eval, options=None, *, event_sign=0, progress=None):
+    """Integrate ``problem`` from ``t0`` to ``t_end`` or the first zero of ``-event_sign * g``.
 
     Parameters
     ----------
     method : Method
         The integrator.
-    rhs, event : kernel or callable
-        The problem (see the module docstring); ``event`` (``(g, g', bound)``) is ignored when
-        ``event_sign`` is 0. Kernels (``@kernel``) when ``compiled``; else anything callable
-        from Python (a kernel then runs compiled, its ``py_func`` as Python).
-    p : object
-        Parameters passed to ``rhs`` and ``event``.
+    problem : Problem
+        Right-hand side, event, parameters and linear part. Kernels (``@kernel``) when compiled;
+        else anything callable from Python (a kernel then runs compiled, its ``py_func`` as Python).
     t0, t_end : float
         Interval, ``t_end >= t0``.
     y0 : array_like, shape ``(n,)``
         Initial state.
     t_eval : array_like
         Increasing sample times in ``(t0, t_end]``.
-    rtol, atol : float or array_like
-        Tolerances (per component if arrays).
-    max_step : float
-        Largest step.
+    options : Options, optional
+        Tolerances, largest step, event resolution, deadline, backend, the method's settings.
     event_sign : {-1, 0, 1}
-        0: no event; ``-1``: the event is ``g`` falling to zero; ``+1``: ``-g`` falling to zero
-        (``g`` rising to zero).
-    event_resolution : float, optional
-        Longest interval between two samples of the event inside a step [time units].
-    deadline : float, optional
-        ``time.perf_counter()`` value after which to stop (status ``"timeout"``).
+        0: no event (``problem.event`` is ignored); ``-1``: the event is ``g`` falling to zero;
+        ``+1``: ``-g`` falling to zero (``g`` rising to zero).
     progress : callable, optional
         ``progress(t)``, called at every return to Python.
-    compiled : bool
-        Run :func:`advance` and the method compiled (kernels as first-class functions) or as
-        Python (the method's ``py_func``).
-    options : dict, optional
-        Passed to ``method.setup``.
-    p_type : numba type, optional
-        The Numba type of ``p``, if known (``numba.typeof`` of a large named tuple costs a
-        fraction of a millisecond).
-    steps_per_call : int
-        Steps of the first call into compiled code, before the speed of a step is known; a caller
-        that integrates many segments passes on the ``extra["steps_per_call"]`` of the previous
-        one, so that a short segment takes one call (each costs about 50 us to convert the
-        arguments). With a ``deadline`` nearer than :data:`CALL_SECONDS` at most
-        :data:`STEPS_PER_CALL`.
 
     Returns
     -------
     Segment
     """
+    o = Options() if options is None else options
+    rhs, event, p, compiled = problem.rhs, problem.event, problem.p, o.compiled
+    t_end = float(t_end)
     y0 = np.asarray(y0)
     n = y0.size
     dtype = y0.dtype if np.iscomplexobj(y0) else np.float64
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     W = np.zeros((method.rows(n), n), dtype=dtype)
     W[R_Y] = y0
-    W[R_ATOL] = np.broadcast_to(np.asarray(atol, dtype=float), (n,))
-    W[R_RTOL] = np.maximum(np.broadcast_to(np.asarray(rtol, dtype=float), (n,)), 100 * EPS)
+    W[R_ATOL] = np.broadcast_to(np.asarray(o.atol, dtype=float), (n,))
+    W[R_RTOL] = np.maximum(np.broadcast_to(np.asarray(o.rtol, dtype=float), (n,)), 100 * EPS)
     fst = np.zeros(method.floats)
     fst[F_T] = t0
     fst[F_TEND] = t_end
     fst[F_DIR] = 1.0
-    fst[F_MAXSTEP] = max_step
-    fst[F_RES] = event_resolution or 0.0
+    fst[F_MAXSTEP] = o.max_step
+    fst[F_RES] = o.event_resolution or 0.0
     fst[F_TSTOP] = t0
     fst[F_TFINAL] = t0
     ist = np.zeros(method.ints, dtype=np.int64)
     ist[S_EVENT] = int(event_sign != 0)
-    # a budget fills CALL_SECONDS: before a nearer deadline the first call takes STEPS_PER_CALL, and its return checks it
-    near = deadline is not None and deadline - time.perf_counter() <= CALL_SECONDS
-    ist[S_MAXSTEPS] = min(steps_per_call, STEPS_PER_CALL) if near else steps_per_call
     if method.setup is not None:
-        method.setup(W, fst, ist, options or {})
+        settings = {"zeta": problem.zeta, "jacobian": problem.jacobian, **o.method}
+        if problem.omega is not None:
+            settings["omega"] = problem.omega
+        method.setup(W, fst, ist, settings)
     out = np.empty((t_eval.size, n), dtype=dtype)
     sign = -float(event_sign) if event_sign else 1.0
     if event_sign == 0:
         event = no_event if compiled else no_event.py_func
+    key = None
     if compiled:
         import numba
 
-        p_type = numba.typeof(p) if p_type is None else p_type
+        p_type = numba.typeof(p) if problem.p_type is None else problem.p_type
         sigs = signatures(p_type)
         args = (first_class(method.init, sigs[2]), first_class(method.step, sigs[3]),
                 first_class(method.dense, sigs[4]), first_class(rhs, sigs[0]), first_class(event, sigs[1]))
         run = _entry_point(tuple(a.numba_type for a in args) + (p_type,))
+        key = (method.name, id(p_type))
+        ist[S_MAXSTEPS] = _first_budget(key, o.deadline)
     else:
         args = tuple(getattr(f, "py_func", f) for f in (method.init, method.step, method.dense)) + (rhs, event)
         run = advance.py_func
+        ist[S_MAXSTEPS] = STEPS_PER_CALL
+    deadline = o.deadline
     chunk = (t_end - t0) * PROGRESS_FRACTION if progress is not None else np.inf
     status, message = "finished", "reached the end of the interval"
     while True:
@@ -393,6 +428,8 @@ def integrate(method, rhs, event, p, t0, y0, t_end, t_eval, *, rtol=1e-3, atol=1
             else:
                 message = f"{method.name} failed at t = {fst[F_TFINAL]:.9g} s: {TOO_SMALL_STEP}"
         break
+    if key is not None:
+        BUDGETS[key] = int(ist[S_MAXSTEPS])
     m = int(ist[S_IEVAL])
     return Segment(
         t=t_eval[:m].copy(), y=out[:m], status=status, message=message, t_final=float(fst[F_TFINAL]),

@@ -94,7 +94,7 @@ def flow_with_jacobian(rhs, p, t0, y0, t_end, scale, *, rel_step=1e-6, method="D
     RuntimeError
         If the integration does not reach ``t_end``.
     """
-    from ..integrate import integrate
+    from ..integrate import Options, Problem, integrate
     from ..integrate.scipy_methods import scipy_method
 
     y0 = np.asarray(y0, dtype=float)
@@ -102,8 +102,8 @@ def flow_with_jacobian(rhs, p, t0, y0, t_end, scale, *, rel_step=1e-6, method="D
     n = y0.size
     z0 = np.concatenate([y0, np.eye(n).ravel()])
     atol_all = np.concatenate([np.full(n, atol), np.broadcast_to(atol / scale[None, :], (n, n)).ravel()])
-    seg = integrate(scipy_method(method), augmented_rhs(rhs, n, rel_step * scale, jacobian), None, p, t0, z0, t_end,
-                    [t_end], rtol=rtol, atol=atol_all, compiled=False)
+    seg = integrate(scipy_method(method), Problem(augmented_rhs(rhs, n, rel_step * scale, jacobian), None, p), t0, z0,
+                    t_end, [t_end], Options(rtol=rtol, atol=atol_all, compiled=False))
     if seg.status != "finished":
         raise RuntimeError(f"the variational equations: {seg.message}")
     z = seg.y_final
