@@ -77,7 +77,7 @@ def _resting(N, delta, t_end):
     cfg = resolve("paper", {"film.model": "none", "contact.law": "restitution", "contact.restitution": 0.5,
                             "mechanism.gravity": [0.0, -9.81], "beam.modes": N, "beam.damping_ratio": 0.2,
                             "film.clearance": 2 * (5e-6 + delta), "film.pad_length": 0.01, "solver.t_end": t_end,
-                            "solver.method": "DOP853"})
+                            "solver.method": "DOP853", "solver.backend": "numpy"})  # 3.5 s; compiling it: 58 s
     return cfg, run(cfg, motion)
 
 
@@ -235,14 +235,17 @@ def test_collar_mass_loads_the_link_at_the_collar(short):
 
 AUDIT = {"film.pad_length": 0.12, "film.viscosity": 0.014, "film.clearance": 4.2725438e-3, "beam.modes": 1,
          "contact.law": "compliant", "solver.t_end": 1.35}
+#: The films whose kernels no other test compiles run on the numpy backend (the same source as Python,
+#: 2-9 s a run, where compiling took 50 s); Reynolds' cavitation and two films are slow as Python (150 s).
+PYTHON = {"solver.backend": "numpy"}
 
 
 @pytest.mark.parametrize("film", [{}, {"film.model": "wedge+squeeze"},
-                                  {"film.cavitation": "half-sommerfeld", "film.cavitation_pressure": 1e5},
+                                  {"film.cavitation": "half-sommerfeld", "film.cavitation_pressure": 1e5, **PYTHON},
                                   {"film.model": "wedge+squeeze", "film.cavitation": "reynolds",
                                    "film.cavitation_pressure": 1e5},
                                   {"film.sides": 2},
-                                  {"film.model": "wedge+squeeze", "film.roughness": 1e-6}])
+                                  {"film.model": "wedge+squeeze", "film.roughness": 1e-6, **PYTHON}])
 def test_compliant_contact_with_a_film_runs_through_breakdown(film):
     # issue 17's audit case: the film used to collapse under the compliant penetration (solver_failure)
     r = run(resolve("paper", {**AUDIT, **film}))
@@ -353,7 +356,8 @@ def test_the_stiff_film_agrees_across_three_methods_and_auto_says_why():
         assert float(np.abs(auto.u2_mid - other.u2_mid).max()) < 1e-8, method
         assert float(np.abs(auto.film_min - other.film_min).max()) < 1e-8, method
     assert auto.attrs["nfev"] < 0.05 * other.attrs["nfev"]  # the exponential method's steps follow the film
-    fd = run(resolve("lubricated", {**base, "film.cavitation": "reynolds"}))
+    fd = run(resolve("lubricated", {**base, "film.cavitation": "reynolds", "solver.t_end": 2e-3,
+                                    "solver.backend": "numpy"}))  # (a note: not worth compiling its kernels)
     assert "Jacobian by finite differences: film.cavitation = 'reynolds'" in fd.method_note
 
 
