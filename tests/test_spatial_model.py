@@ -391,7 +391,8 @@ def test_a_u3_breakdown_is_found_at_the_root_of_the_u3_film():
 
 def test_impacts_and_sustained_contact_on_both_pairs_are_the_same_on_both_backends():
     """spatial-slider-crank, dry, two-sided collar on both pairs, 0.1 mm clearance, to 15 ms: impacts on both pairs
-    (u3, u2, u3, u2, u2, u3, then a Zeno sequence on the u2 faces and a sustained contact from about 11.9 ms); the
+    (u3, u2, u3, u2, u2, u3, then a Zeno sequence on the u2 faces and a sustained contact from about 11.9 ms, ended
+    by a second point of the pad reaching a face at 12.14 ms: status penetration); the
     numpy backend gives the compiled run's impacts, faces and states up to the Zeno sequence (equal to the last bit
     measured but for one dense-output sample, 2e-19 m/s apart). Within the sequence the two part: the backends' math
     libraries differ in the last bit here and there (measured: the 13th impact 9e-16 s apart), and a Zeno sequence
@@ -401,11 +402,14 @@ def test_impacts_and_sustained_contact_on_both_pairs_are_the_same_on_both_backen
     runs = {b: simulate_run(resolve("spatial-slider-crank", {**over, "solver.backend": b})) for b in ("numba", "numpy")}
     a, b = (to_dataset(runs[k]) for k in ("numba", "numpy"))
     assert a.attrs["backend"] == "numba" and b.attrs["backend"] == "numpy"
-    # the sustained contact holds one point of the u2 faces while the pad reaches the faces elsewhere: at the
-    # last sample (15 ms) the u2 film is 3.2 um (below 0.9 min_film) and the u3 film -7.5 um, which the samples'
-    # check reports (the spatial model's sustained contact does not watch the rest of the pad yet)
+    # the sustained contact holds one point of the u2 faces while the pad reaches a face elsewhere: the event
+    # watches the films of both pairs over the whole pad and ends the run where the thinnest reaches 0.9
+    # min_film (12.14 ms; it used to go on to 15 ms, the u2 film 3.2 um and the u3 film -7.5 um there)
     assert a.attrs["status"] == b.attrs["status"] == "penetration"
-    assert "during a sustained contact" in a.attrs["message"]
+    assert "reached the collar face at a second point" in a.attrs["message"]
+    end = runs["numba"].contacts[0][1]
+    assert 0.0119 < end < 0.0125 and runs["numpy"].contacts[0][1] == pytest.approx(end, abs=1e-9)
+    assert a.film_min.values[-1] >= 0.9 * 5e-6 * (1 - 1e-9) and float(a.time[-1]) <= end
     assert set(a.impact_face.values[:6]) == {2, 3} and a.sizes["impact"] > 10
     assert len(runs["numba"].contacts) == 1 and runs["numba"].contacts[0][2] == 1
     assert np.any(a.contact_phase.values == 1) and np.all(a.contact_force.values[a.contact_phase.values == 1] > 0.0)

@@ -212,13 +212,41 @@ def _gap_in(g, kin, y, p):
 
 
 @jitable
-def _sustained_event(phase, t, kin, y, p):
-    """The force [N] of the sustained contact ``phase``, the event of its segment (None: compiles to nothing)."""
+def _thinnest_over_pairs(g, kin, y, p):
+    """The thinnest film over the pad on the face pairs :func:`spatial_gap_given` watches [m] (``g`` as there)."""
+    N = p.basis.modes
+    yq = y if g is None else spatial_section.physical(g, y)
+    xi = thinnest_given(kin[4], yq[N:2 * N], p)[0]
+    if p.film.faces == U2_U3 and g is None:
+        xi = min(xi, thinnest_given(kin[4], y[2 * N:3 * N], p)[0])
+    return xi
+
+
+@jitable
+def _sustained_force(phase, t, kin, y, p):
+    """The force [N] of the sustained contact ``phase`` (None: compiles to nothing)."""
     if phase is None:
         return 0.0
     out = np.empty(y.shape[0])
     spatial_rhs_given(kin, y, out, p)
     return _sustained_spatial(phase, t, kin, y, out, p)
+
+
+@jitable
+def _sustained_event(phase, t, kin, y, p):
+    """The event of a sustained contact ``phase`` (None: compiles to nothing), as the planar model's
+    (:func:`lubelink.model._sustained_event`): its force [N], which ends it at zero; or, once the film
+    anywhere on the pad of either face pair is :data:`~lubelink.contact.PENETRATION` ``min_film`` below
+    ``min_film``, that depth times the modal stiffness of the held block's highest mode [N] (<= 0)."""
+    if phase is None:
+        return 0.0
+    force = _sustained_force(phase, t, kin, y, p)
+    below = _thinnest_over_pairs(p.spatial.galerkin, kin, y, p) - (1.0 - contact.PENETRATION) * p.contact.min_film
+    if below > 0.0:
+        return force
+    k = face_of(phase.side)[0]
+    w = p.spatial.W[(k + 1) * p.basis.modes - 1]
+    return below * p.basis.modal_mass * w * w
 
 
 @kernel
@@ -237,7 +265,7 @@ def spatial_sustained_many(t, y, side, point, p):
     out = np.zeros(t.shape[0])
     for i in range(t.shape[0]):
         if side[i] != 0.0:
-            out[i] = _sustained_event(ContactPhase(side[i], 0.0, point[i]), t[i],
+            out[i] = _sustained_force(ContactPhase(side[i], 0.0, point[i]), t[i],
                                       spatial_motion_at(t[i], p.spatial.motion), y[i], p)
     return out
 
