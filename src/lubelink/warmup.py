@@ -27,6 +27,8 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
         ``progress(message)`` before each step.
     """
     from . import _jit
+    from ._prewarm import compile_on_two_cores
+    from .build import build_model
     from .config import resolve
     from .results import to_dataset
     from .simulate import run
@@ -40,7 +42,9 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
         # a film, its events, two modes: every branch the kernels have is compiled with them
         config = resolve("paper", {"beam.modes": 2, "solver.method": method, "solver.t_end": 2e-3,
                                    "solver.output_step": 1e-3})
-        result = run(config)
+        model = build_model(config)
+        compile_on_two_cores(model)  # (a helper process compiles the right-hand side and the gap the first time)
+        result = run(config, model=model)
     if progress:
         progress("compiling the results")
     to_dataset(result)
