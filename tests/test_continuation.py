@@ -135,3 +135,32 @@ def test_cli_continue_writes_the_branch_and_its_figure(tmp_path, capsys):
     assert main(["continue", "--scenario", "paper-dry", "--parameter", "beam.modez", "--to", "2",
                  "-o", str(tmp_path / "d.nc")]) == 2
     assert "did you mean 'beam.modes'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["periodic", "--tol", "inf"], "--tol inf: must be a number in (0, 0.001]"),
+    (["periodic", "--tol", "nan"], "--tol nan: must be a number in (0, 0.001]"),
+    (["periodic", "--tol", "0"], "--tol 0.0: must be a number in (0, 0.001]"),
+    (["periodic", "--tol", "-1"], "--tol -1.0: must be a number in (0, 0.001]"),
+    (["periodic", "--warmup", "-2"], "--warmup -2: must be >= 0"),
+    (["periodic", "--periods", "0"], "--periods 0: must be >= 1"),
+    (["continue", "--to", "31", "--max-points", "0"], "--max-points 0: must be >= 2"),
+    (["continue", "--to", "31", "--max-points", "-5"], "--max-points -5: must be >= 2"),
+    (["continue", "--to", "31", "--warmup", "-2"], "--warmup -2: must be >= 0"),
+    (["continue", "--to", "31", "--max-step", "inf"], "--max-step inf: must be a finite number > 0"),
+    (["continue", "--to", "nan"], "--to nan: must be a finite number"),
+    (["continue", "--to", "31", "--from", "inf"], "--from inf: must be a finite number"),
+    (["continue", "--to", "31.41592653589793"], "the end of the branch (31.4159) must differ from its start"),
+])
+def test_numeric_options_out_of_range_are_one_line_and_status_2_before_any_work(args, needle, tmp_path, capsys):
+    """Issue 37 item 2: ``periodic --tol inf`` used to exit 0 with an orbit of residual 0.50, ``--tol 0`` exit 1,
+    ``--max-points 0`` write a one-point branch, ``--warmup -2`` pass, ``--to`` at the start fail after
+    computing the first orbit. Each is now refused up front, naming the option, its value and the range."""
+    import time
+
+    out = tmp_path / "x.nc"
+    began = time.perf_counter()
+    assert main([args[0], "--scenario", "paper-dry", *args[1:], "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert not out.exists() and time.perf_counter() - began < 5.0  # nothing computed (a period takes seconds)

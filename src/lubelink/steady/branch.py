@@ -153,6 +153,11 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
                     samples=samples)
     lam0 = family.value0 if start is None else float(start)
     family.config_at(stop)  # an end outside the parameter's range is refused now (ConfigError), not met on the way
+    if float(stop) == lam0:
+        from ..validation import ConfigError
+
+        raise ConfigError([f"{parameter}: the end of the branch ({float(stop):g}) must differ from its start "
+                           f"({lam0:g})"])
     fmap0 = family(lam0)
     # the first orbit as lubelink.periodic finds it (restarts after transients if need be)
     y = find_periodic(fmap0.config, motion, period=period, periods=periods, y0=y0, warmup=warmup,

@@ -80,6 +80,32 @@ def _common(p, default):
     p.add_argument("-q", "--quiet", action="store_true", help="no summary")
 
 
+#: The largest ``--tol`` (a scaled residual of Newton's method; beyond it an orbit is not an orbit).
+MAX_TOL = 1e-3
+
+
+def _check_numbers(args):
+    """Refuse the numeric options out of their ranges before anything is computed: one line each, naming
+    the option, its value and the range (exit status 2)."""
+    import math
+
+    problems = []
+
+    def need(option, value, ok, rule):
+        if value is not None and not ok(value):
+            problems.append(f"{option} {value}: {rule}")
+
+    need("--tol", args.tol, lambda v: 0.0 < v <= MAX_TOL, f"must be a number in (0, {MAX_TOL:g}]")
+    need("--warmup", args.warmup, lambda v: v >= 0, "must be >= 0")
+    need("--periods", getattr(args, "periods", None), lambda v: v >= 1, "must be >= 1")
+    need("--max-points", getattr(args, "max_points", None), lambda v: v >= 2, "must be >= 2")
+    need("--max-step", getattr(args, "max_step", None), lambda v: 0.0 < v < math.inf, "must be a finite number > 0")
+    need("--from", getattr(args, "start", None), math.isfinite, "must be a finite number")
+    need("--to", getattr(args, "stop", None), math.isfinite, "must be a finite number")
+    if problems:
+        raise UsageError("\n".join(problems))
+
+
 def _target(args, suffix, option="--output", given=None, source=None):
     path = Path(given) if given else Path(f"{Path(str(source)).stem}{suffix}")
     if path.exists() and not args.overwrite:
@@ -115,9 +141,8 @@ def _cmd_periodic(args):
     from .shooting import ShootingError
 
     began = time.perf_counter()
+    _check_numbers(args)
     source, config = resolve_args(args)
-    if args.periods < 1 or args.warmup < 0:
-        raise UsageError("--periods must be >= 1 and --warmup >= 0")
     path = _target(args, "-periodic.nc", given=args.output, source=source)
     try:
         orbit = find_periodic(config, periods=args.periods, warmup=args.warmup, jacobian=args.jacobian, tol=args.tol)
@@ -172,11 +197,10 @@ def _cmd_continue(args):
     from .shooting import MapFailure, ShootingError
 
     began = time.perf_counter()
+    _check_numbers(args)
     source, config = resolve_args(args)
     path = _target(args, "-branch.nc", given=args.output, source=source)
     figure = _target(args, "", "--figure", given=args.figure) if args.figure else None
-    if args.max_step is not None and not args.max_step > 0:
-        raise UsageError(f"--max-step {args.max_step}: must be > 0")
     try:
         branch, summaries, family = find_branch(
             config, args.stop, args.parameter, start=args.start, warmup=args.warmup, jacobian=args.jacobian,
