@@ -5,6 +5,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from lubelink import _jit, _prewarm
@@ -86,9 +87,10 @@ def test_wait_returns_when_the_kernels_are_reported_or_the_helper_ends_or_the_li
 
 # ---------------------------------------------------------------- a cold short run: Python, compiling beside
 def _first(monkeypatch, tmp_path, warm=False, busy=False, limit=None):
-    """``first_run`` of ``paper`` with the cache state, the lock and the limit given."""
+    """``first_run`` of ``paper`` with the cache state (``warm``: True, False, or ``"rhs"``: the right-hand side
+    only), the lock and the limit given."""
     monkeypatch.setenv("LUBELINK_FIRST_RUN", "python")
-    monkeypatch.setattr(_prewarm, "_is_warm", lambda dispatcher, args: warm)
+    monkeypatch.setattr(_prewarm, "_is_warm", lambda dispatcher, args: warm is True or (warm == "rhs" and dispatcher is rhs))
     monkeypatch.setattr(_prewarm, "_WARM", {})
     monkeypatch.setattr(_prewarm, "_lock_path", lambda dispatcher: str(tmp_path / "compile.lock"))
     started = []
@@ -135,8 +137,27 @@ def test_a_cold_long_run_compiles_in_the_foreground(monkeypatch, tmp_path):
 
 
 def test_while_a_background_compile_runs_a_short_run_is_python_and_starts_no_second(monkeypatch, tmp_path):
-    model, chosen, started = _first(monkeypatch, tmp_path, warm=True, busy=True)  # rhs cached, the rest not yet
+    model, chosen, started = _first(monkeypatch, tmp_path, warm="rhs", busy=True)  # rhs cached, the rest not yet
     assert not chosen.compiled and "being built in the background" in chosen.backend_note and started == []
+
+
+def test_while_a_background_compile_runs_a_cached_run_runs_compiled(monkeypatch, tmp_path):
+    """Issue 37 item 6: a held lock sent a configuration whose kernels were all cached to Python (a 1.5 s
+    compiled run became a 30 s timeout). The right-hand side, the method's step and the driver cached: compiled."""
+    model, chosen, started = _first(monkeypatch, tmp_path, warm=True, busy=True)
+    assert chosen is model and chosen.compiled and started == []
+
+
+def test_a_run_of_the_session_is_cached_beyond_its_right_hand_side():
+    """``_run_is_cached`` reads the on-disk cache of the method's step and the driver (the session compiled
+    ``paper``'s kernels before the tests), and says no for a method whose step is not compiled for the type."""
+    import numba
+
+    model = build_model(resolve("paper", {"solver.t_end": 2e-3, "solver.method": "DOP853"}))
+    run(model.config)
+    assert _prewarm._run_is_cached(model.config, model.params_type)
+    other = numba.typeof(np.zeros(3))  # parameters of another type: nothing compiled for it
+    assert not _prewarm._run_is_cached(model.config, other)
 
 
 @pytest.mark.parametrize("env, compiles", [({"LUBELINK_FIRST_RUN": "compile"}, True), ({"LUBELINK_PREWARM": "0"}, False)])

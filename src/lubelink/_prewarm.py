@@ -183,7 +183,7 @@ def first_run(model, motion=None, say=None):
             _BACKGROUND.remove(proc)
     lock = _lock_path(rhs)
     busy = _compiling(lock)
-    if not busy and _is_warm(rhs, signatures(p_type)[0].args):
+    if _is_warm(rhs, signatures(p_type)[0].args) and (not busy or _run_is_cached(config, p_type)):
         _WARM[id(p_type)] = p_type
         return model
     if config.solver.backend == "auto" and os.environ.get("LUBELINK_FIRST_RUN", "python") != "compile":
@@ -194,6 +194,19 @@ def first_run(model, motion=None, say=None):
         say(COMPILING)
     compile_on_two_cores(model, motion)
     return model
+
+
+def _run_is_cached(config, p_type) -> bool:
+    """Whether the integration of a run of ``config`` is in the on-disk cache beyond its right-hand side: its
+    method's step and the driver for ``p_type``. A background compile builds the right-hand side first, so
+    while one holds the lock a cached right-hand side alone does not say that the run is cached; this does
+    (the results' kernels, if missing, then compile in the run, in seconds)."""
+    from . import integrate
+    from .choice import method_name
+    from .integrate.driver import advance, advance_types, signatures
+
+    method = integrate.method(method_name(config))
+    return _is_warm(method.step, signatures(p_type)[3].args) and _is_warm(advance, advance_types(p_type))
 
 
 #: What a first run that compiles says before it does.

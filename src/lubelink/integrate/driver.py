@@ -288,13 +288,27 @@ def signatures(p_type):
     return rhs, event, init, step, dense
 
 
-@_by_identity
-def _entry_point(types_head):
-    """:func:`advance` compiled for these argument types, called without Numba's type dispatch."""
+def _advance_types(types_head):
+    """The argument types of :func:`advance` after those of its kernels and parameters ``types_head``."""
     from numba import types
 
     f8, i8 = types.float64, types.int64
-    argtypes = types_head + (f8, f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], i8[::1])
+    return types_head + (f8, f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], i8[::1])
+
+
+def advance_types(p_type):
+    """The argument types :func:`advance` is compiled for with any method and parameters of type ``p_type``."""
+    from numba import types
+
+    sigs = signatures(p_type)
+    head = tuple(types.FunctionType(s) for s in (sigs[2], sigs[3], sigs[4], sigs[0], sigs[1]))
+    return _advance_types(head + (p_type,))
+
+
+@_by_identity
+def _entry_point(types_head):
+    """:func:`advance` compiled for these argument types, called without Numba's type dispatch."""
+    argtypes = _advance_types(types_head)
     advance.compile(argtypes)
     return advance.overloads[argtypes].entry_point
 
