@@ -149,6 +149,10 @@ def _summary(r, source, path, wall):
         ("simulated", f"0 - {float(t[-1]):.4g} s, {r['mode'].size} mode(s), {t.size} samples"),
         ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(t[i]):.4f} s"),
     ]
+    if "u3_mid" in r and r["u3_mid"].size:  # the spatial link: the out-of-plane peak too
+        u3 = np.abs(r["u3_mid"])
+        j = int(np.argmax(u3))
+        rows.append(("peak |u3_mid|", f"{1e3 * u3[j]:.4f} mm at t = {float(t[j]):.4f} s"))
     if "pressure" in r:
         rows.append(("film", f"thinnest {1e3 * float(r['film_min'].min()):.4f} mm, peak gauge pressure "
                              f"{1e-3 * float(np.abs(r['pressure']).max()):.4g} kPa, peak force "

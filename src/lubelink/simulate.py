@@ -53,31 +53,41 @@ def domain_exit(model, y):
     limits = np.array([getattr(s, key) for _, key in DOMAIN])
     if y.shape[0] == 0 or not np.isfinite(limits).any():
         return None
-    q = model.planar_state(y)[:, :model.modes]
+    # the deflections: u2, and for the spatial link u3 (the stretching strain is then that of both)
+    blocks = [model.planar_state(y)[:, :model.modes]]
+    names = [name for name, _ in DOMAIN]
+    if hasattr(model, "block_state"):
+        blocks.append(model.block_state(y, 2)[:, :model.modes])
+        names = ["max |u2|/L, |u3|/L", "max |u2'|, |u3'|", names[2]]
     L = model.config.mechanism.rod_length
     beta = wavenumbers(model.modes, L)
-    # |u2| <= sum |q_n| and |u2'| <= sum beta_n |q_n|: only the states these bounds do not clear are sampled,
-    # and none when the bounds of the largest |q_n| of all states clear (NaN clears nothing)
-    def cleared(a):  # a = |q|, shape (..., N)
-        strain = 0.25 * ((beta * a) ** 2).sum(axis=-1)
-        return (a.sum(axis=-1) / L <= limits[0]) & ((a * beta).sum(axis=-1) <= limits[1]) & (strain <= limits[2]), strain
 
-    if cleared(np.abs(np.ascontiguousarray(q.T)).max(axis=1))[0]:  # (along rows of samples: 5x faster than axis=0)
+    # |u| <= sum |q_n| and |u'| <= sum beta_n |q_n|: only the states these bounds do not clear are sampled,
+    # and none when the bounds of the largest |q_n| of all states clear (NaN clears nothing)
+    def bounds(a):  # a = |q| of each block, shape (..., N): the bounds of (|u|/L, |u'|, strain)
+        return np.stack([np.max([b.sum(axis=-1) / L for b in a], axis=0),
+                         np.max([(b * beta).sum(axis=-1) for b in a], axis=0),
+                         np.sum([0.25 * ((beta * b) ** 2).sum(axis=-1) for b in a], axis=0)], axis=-1)
+
+    largest = [np.abs(np.ascontiguousarray(q.T)).max(axis=1) for q in blocks]  # (along rows: 5x faster than axis=0)
+    if np.all(bounds(largest) <= limits):
         return None
-    ok, strain = cleared(np.abs(q))
-    check = ~ok
+    first = bounds([np.abs(q) for q in blocks])
+    check = ~np.all(first <= limits, axis=1)
     if not check.any():
         return None
-    m = np.zeros((q.shape[0], 3))
-    m[:, 2] = strain
-    m[check] = linear_domain(q[check], L, 16 + 8 * model.modes)
+    m = np.zeros((y.shape[0], 3))
+    m[:, 2] = first[:, 2]
+    each = [linear_domain(q[check], L, 16 + 8 * model.modes) for q in blocks]
+    m[check] = np.stack([np.max([e[:, 0] for e in each], axis=0), np.max([e[:, 1] for e in each], axis=0),
+                         np.sum([e[:, 2] for e in each], axis=0)], axis=-1)
     bad = ~(m <= limits)
     rows = np.flatnonzero(bad.any(axis=1))
     if rows.size == 0:
         return None
     i = int(rows[0])
     j = int(np.flatnonzero(bad[i])[0])
-    name, key = DOMAIN[j]
+    name, key = names[j], DOMAIN[j][1]
     return i, (f"{name} = {m[i, j]:.4g} exceeds solver.{key} = {limits[j]:g}: the state left the domain of the "
                "linear (small-deflection) theory, so the results beyond are meaningless; the run stopped "
                "(raise the limit, or set it to inf, to go on regardless)")
