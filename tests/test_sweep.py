@@ -730,6 +730,23 @@ def test_two_threads_creating_the_same_store(tmp_path):
     assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
 
 
+@pytest.mark.parametrize("name", ["lock", "journal.jsonl"])
+def test_a_store_never_writes_through_a_symbolic_link_inside_it(tmp_path, name):
+    """Issue 37 (security): the store's ``lock`` was opened through a link and truncated before any check, its
+    ``journal.jsonl`` appended to through a link and later emptied. A link in their place is refused, naming it,
+    and the file it points to is left as it was."""
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.1, 0.2]}))
+    path = tmp_path / "r.zarr"
+    _Store.open(path, sp).close()
+    outside = tmp_path / "precious.txt"
+    outside.write_text("keep me\n")
+    (path / name).unlink()
+    (path / name).symlink_to(outside)
+    with pytest.raises(SweepError, match=f"{name} is a symbolic link: a sweep store never writes through one"):
+        _Store.open(path, sp)
+    assert outside.read_text() == "keep me\n" and (path / name).is_symlink()
+
+
 @pytest.mark.parametrize("output", ["s.zarr", "s.nc"])
 def test_an_unreachable_scheduler_leaves_no_store(tmp_path, monkeypatch, capsys, output):
     """Item 8."""

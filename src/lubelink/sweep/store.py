@@ -11,6 +11,7 @@ configuration of one stored point. Zarr and xarray are imported inside the funct
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -32,6 +33,20 @@ JOURNAL = "journal.jsonl"
 LOCK = "lock"
 #: Seconds between folds of the journal into the Zarr arrays.
 COMPACT_INTERVAL = 10.0
+
+
+def _open_own(path, flags):
+    """``os.open(path, flags)`` of a file of a store, never through a symbolic link (``O_NOFOLLOW``; a link
+    makes a :class:`SweepError` naming it): a store's files are its own, and a link inside it must not
+    make a sweep write, truncate or lock a file elsewhere."""
+    if os.path.islink(path):
+        raise SweepError(f"{path} is a symbolic link: a sweep store never writes through one; remove it")
+    try:
+        return os.open(path, flags | getattr(os, "O_NOFOLLOW", 0), 0o666)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:  # made a link between the check and the open
+            raise SweepError(f"{path} is a symbolic link: a sweep store never writes through one; remove it") from None
+        raise
 
 
 def _read_journal(path):
@@ -163,7 +178,7 @@ class _Store:
             st.group = zarr.open_group(str(st.path), mode="r+")
             for tmp in st.path.rglob("*.partial"):  # temporaries of a chunk write cut by a kill
                 tmp.unlink(missing_ok=True)
-            st._journal_fd = os.open(st.path / JOURNAL, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+            st._journal_fd = _open_own(st.path / JOURNAL, os.O_WRONLY | os.O_APPEND | os.O_CREAT)
             st.compact()  # fold what a killed run left in the journal
         except OSError as exc:
             st.close_files()
@@ -211,7 +226,7 @@ class _Store:
             import fcntl
         except ImportError:  # Windows: no advisory locks; one writer is the user's responsibility
             return
-        fd = os.open(Path(folder) / LOCK, os.O_RDWR | os.O_CREAT, 0o666)
+        fd = _open_own(Path(folder) / LOCK, os.O_RDWR | os.O_CREAT)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
