@@ -91,6 +91,8 @@ def test_summary_names_the_overrides_of_its_source(tmp_path):
     (["run", "missing.toml"], "no such file"),
     (["run", "paper-dri"], "did you mean 'paper-dry'"),
     (["run", "-o", "/nonexistent-dir/x.nc"], "does not exist"),
+    (["run", "-o", ""], "-o '': an empty file name"),  # issue 37 item 8: used to write paper.nc
+    (["run", "-o", "r.nc", "--no-output"], "-o r.nc and --no-output: give one of them"),  # used to ignore -o
     (["config", "--set", "mechanism.crank_length=2.0"], "cannot turn"),
 ])
 def test_bad_input_exits_2_with_one_clear_line(args, needle, tmp_path):

@@ -273,6 +273,10 @@ def _cmd_run(args):
     from .simulate import run
 
     began = time.perf_counter()
+    if args.output is not None and args.no_output:
+        raise UsageError(f"-o {args.output} and --no-output: give one of them")
+    if args.output is not None and not args.output.strip():
+        raise UsageError(f"-o {args.output!r}: an empty file name; give FILE.nc, or --no-output")
     source, config = resolve_args(args)
     path = None
     if not args.no_output:
