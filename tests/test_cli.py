@@ -104,6 +104,22 @@ def test_bad_input_exits_2_with_one_clear_line(args, needle, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_unbounded_input_is_refused_and_its_faults_are_counted_not_all_printed(tmp_path):
+    """Issue 37 item 5: ``run /dev/zero`` read until memory ran out, and a file of 200,000 unknown keys printed
+    200,000 lines. A configuration file over 1 MiB is refused unread; faults past 50 are counted in one line."""
+    import os
+
+    if os.path.exists("/dev/zero"):
+        r = cli("run", "/dev/zero", cwd=tmp_path)
+        assert r.returncode == 2 and "longer than 1 MiB, too long for a configuration file" in r.stderr
+    many = tmp_path / "many.toml"
+    many.write_text("[beam]\n" + "".join(f"unknown_{k} = {k}\n" for k in range(120)))
+    r = cli("run", str(many), cwd=tmp_path)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 51 and lines[-1] == "lubelink: error: ... and 70 more", lines[-3:]
+    assert all(line.startswith("lubelink: error: ") for line in lines)
+
+
 def test_help_and_listing():
     for args in (["--help"], ["run", "--help"], ["config", "--help"], ["scenarios", "--help"]):
         r = cli(*args)

@@ -212,6 +212,16 @@ def test_cli_animate_writes_a_gif(tmp_path):
     assert not list(tmp_path.glob(".*"))
 
 
+def test_cli_animate_refuses_a_huge_animation_before_simulating(tmp_path):
+    """Issue 37 item 5: ``animate --fps 100000`` started 400,001 frames (28 h); it is refused at once, with its cost."""
+    import time
+
+    began = time.perf_counter()
+    r = cli("animate", "-o", str(tmp_path / "a.gif"), "--fps", "100000", "-q")
+    assert r.returncode == 2 and "400,000 frames, more than 2,000" in r.stderr and "h to draw" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and list(tmp_path.iterdir()) == [] and time.perf_counter() - began < 30
+
+
 @pytest.mark.parametrize("name, needle", [("crank.avi", ".gif or .mp4"), ("crank.mp4", "ffmpeg")])
 def test_cli_animate_rejects_what_it_cannot_write(tmp_path, name, needle):
     import shutil

@@ -354,8 +354,11 @@ def main(argv=None):
     try:
         return handler(args)
     except ConfigError as exc:
-        for problem in exc.problems:
+        shown = exc.problems[:MAX_ERROR_LINES]
+        for problem in shown:
             print(f"lubelink: error: {problem}", file=sys.stderr)
+        if len(exc.problems) > len(shown):
+            print(f"lubelink: error: ... and {len(exc.problems) - len(shown)} more", file=sys.stderr)
         return 2
     except (UsageError, BackendError) as exc:
         print(f"lubelink: error: {exc}", file=sys.stderr)
@@ -365,6 +368,10 @@ def main(argv=None):
         return exit_status(exc)
     finally:
         restore()
+
+
+#: The most faults of a configuration printed, one line each (the rest are counted in one more line).
+MAX_ERROR_LINES = 50
 
 
 def console():

@@ -239,6 +239,10 @@ def load(path) -> Config:
     return from_dict(read_toml(path, "configuration file"), origin=str(path))
 
 
+#: The longest configuration or sweep file read [bytes] (the largest real one is a few kilobytes).
+MAX_TOML_BYTES = 2**20
+
+
 def read_toml(path, what="configuration file") -> dict:
     """The parsed TOML document at ``path``; every fault is a one-line :class:`ConfigError`.
 
@@ -249,9 +253,12 @@ def read_toml(path, what="configuration file") -> dict:
     if path.is_dir():
         raise ConfigError([f"{path}: is a folder, not a {what}"])
     try:
-        raw = path.read_bytes()
+        with open(path, "rb") as f:  # at most MAX_TOML_BYTES: /dev/zero or a huge file is refused, not read
+            raw = f.read(MAX_TOML_BYTES + 1)
     except OSError as exc:
         raise ConfigError([f"{path}: cannot read the {what} ({exc.strerror or exc})"]) from None
+    if len(raw) > MAX_TOML_BYTES:
+        raise ConfigError([f"{path}: longer than {MAX_TOML_BYTES // 2**20} MiB, too long for a {what}"])
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -16,6 +16,12 @@ from .._files import atomic_path, target_problem
 __all__ = ["animate"]
 
 
+#: The most frames an animation draws (a GIF of 20 fps: 100 s), and the time a frame takes to draw [s]
+#: (measured on the 2-core machine: 0.25 s).
+MAX_FRAMES = 2000
+SECONDS_PER_FRAME = 0.25
+
+
 def animate(source="paper", set=None, output="mechanism.gif", fps=20, duration=0.4,
             speed=0.1, overwrite=False, dpi=80, progress=False):
     """Simulate and write an animation of the mechanism (GIF, or MP4 with ffmpeg).
@@ -69,6 +75,10 @@ def animate(source="paper", set=None, output="mechanism.gif", fps=20, duration=0
     frames = int(round(duration / frame_step))
     if frames < 2:
         raise ValueError(f"--duration {duration}: shows fewer than 2 frames at --fps {fps} and --speed {speed}")
+    if frames > MAX_FRAMES:
+        raise ValueError(f"--duration {duration} at --fps {fps} and --speed {speed}: {frames:,} frames, more than "
+                         f"{MAX_FRAMES:,} (about {frames * SECONDS_PER_FRAME / 3600:.3g} h to draw); lower --fps or "
+                         "--duration, or raise --speed")
     ds = simulate(source, {**(set or {}), "solver.t_end": frames * frame_step, "solver.output_step": frame_step},
                   progress=progress)
     from .. import plots
