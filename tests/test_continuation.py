@@ -164,3 +164,38 @@ def test_numeric_options_out_of_range_are_one_line_and_status_2_before_any_work(
     err = capsys.readouterr().err
     assert needle in err and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
     assert not out.exists() and time.perf_counter() - began < 5.0  # nothing computed (a period takes seconds)
+
+
+def test_outputs_are_checked_before_any_work(tmp_path, capsys):
+    """Issue 37 items 3 and 4: ``continue -o b.txt`` worked 149 s and then refused the name; ``plot-branch -o
+    x.txt``, an existing folder or FIFO given ``--overwrite``, a read-only folder and ``continue --figure
+    f.txt`` ended in tracebacks. Each is refused before anything is computed, in one line, status 2."""
+    import os
+    import stat
+    import time
+
+    folder = tmp_path / "taken.png"
+    folder.mkdir()
+    fifo = tmp_path / "pipe.png"
+    os.mkfifo(fifo)
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(stat.S_IRUSR | stat.S_IXUSR)
+    cases = [
+        (["continue", "--scenario", "paper-dry", "--to", "31", "-o", str(tmp_path / "b.txt")], "name the file *.nc"),
+        (["periodic", "--scenario", "paper-dry", "-o", str(tmp_path / "o.txt")], "name the file *.nc"),
+        (["continue", "--scenario", "paper-dry", "--to", "31", "-o", str(tmp_path / "b.nc"), "--figure",
+          str(tmp_path / "f.txt")], "--figure"),
+        (["plot-branch", "missing.nc", "-o", str(tmp_path / "x.txt")], "a figure is written as"),
+        (["plot-branch", "missing.nc", "-o", str(folder), "--overwrite"], "only a regular file is ever replaced"),
+        (["plot-branch", "missing.nc", "-o", str(fifo), "--overwrite"], "only a regular file is ever replaced"),
+    ]
+    if os.geteuid() != 0:  # (permission bits do not bind root)
+        cases.append((["plot-branch", "missing.nc", "-o", str(locked / "x.png")], "locked"))
+    for args, needle in cases:
+        began = time.perf_counter()
+        assert main(args) == 2, args
+        err = capsys.readouterr().err
+        assert needle in err and "Traceback" not in err and len(err.strip().splitlines()) == 1, (args, err)
+        assert time.perf_counter() - began < 5.0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["locked", "pipe.png", "taken.png"]

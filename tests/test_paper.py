@@ -212,6 +212,20 @@ def test_cli_animate_writes_a_gif(tmp_path):
     assert not list(tmp_path.glob(".*"))
 
 
+def test_cli_figures_refuses_a_figure_file_taken_by_a_folder_before_computing(tmp_path):
+    """Issue 37 item 4: ``figures -o figs`` where one figure's file name was a folder ended in a traceback after
+    the simulations. It is refused at once, naming the file."""
+    import time
+
+    (tmp_path / "figs" / "fig6-deflection-surface.png").mkdir(parents=True)
+    began = time.perf_counter()
+    r = cli("figures", "--low-res", "--only", "fig6", "-o", str(tmp_path / "figs"), "-q")
+    assert r.returncode == 2 and "fig6-deflection-surface.png is a folder" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert time.perf_counter() - began < 30 and sorted(p.name for p in (tmp_path / "figs").iterdir()) == [
+        "fig6-deflection-surface.png"]
+
+
 def test_cli_animate_refuses_a_huge_animation_before_simulating(tmp_path):
     """Issue 37 item 5: ``animate --fps 100000`` started 400,001 frames (28 h); it is refused at once, with its cost."""
     import time

@@ -9,6 +9,7 @@ the heavy libraries only when they run.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..errors import UsageError, suggest
@@ -44,8 +45,19 @@ def _cmd_figures(args):
                          + (suggest(bad[0], FORMATS) if bad else ""))
     if args.dpi is not None and not 10 <= args.dpi <= 1200:
         raise UsageError(f"--dpi {args.dpi}: must be in [10, 1200]")
-    result = make_figures(out, low_res=args.low_res, only=only, progress=not args.quiet, formats=formats,
-                          dpi=args.dpi)
+    from .._files import target_problem
+
+    for name in only or FIGURES:  # a figure's file taken by a folder, a FIFO, ...: said before computing
+        for fmt in formats:
+            target = out / f"{FIGURES[name]}.{fmt}"
+            problem = target_problem(target) if os.path.lexists(target) else None
+            if problem:
+                raise UsageError(f"-o {out}: {target.name} {problem}")
+    try:
+        result = make_figures(out, low_res=args.low_res, only=only, progress=not args.quiet, formats=formats,
+                              dpi=args.dpi)
+    except OSError as exc:  # the disk filled up, a file appeared meanwhile, ...
+        raise UsageError(f"-o {out}: could not be written ({exc.strerror or exc})") from None
     if not args.quiet:
         for name, paths in result.paths.items():
             print(f"{name:<12} " + "  ".join(str(p) for p in paths))

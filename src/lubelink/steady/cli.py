@@ -106,13 +106,39 @@ def _check_numbers(args):
         raise UsageError("\n".join(problems))
 
 
-def _target(args, suffix, option="--output", given=None, source=None):
+def _target(args, suffix, option="--output", given=None, source=None, figure=False):
+    """The output path, checked before anything is computed (so that no work is lost at the end): results
+    with a NetCDF suffix, a figure with a suffix Matplotlib writes; an existing target only with
+    ``--overwrite`` and only a regular file; a writable folder (:func:`lubelink._files.target_problem`)."""
+    from .._files import target_problem
+    from ..netcdf import EXISTS, output_problem
+
     path = Path(given) if given else Path(f"{Path(str(source)).stem}{suffix}")
-    if path.exists() and not args.overwrite:
-        raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
-    if not path.parent.is_dir():
-        raise UsageError(f"{option} {path}: folder {path.parent} does not exist")
+    if figure:
+        kinds = _figure_kinds()
+        if path.suffix.lower().lstrip(".") not in kinds:
+            raise UsageError(f"{option} {path}: a figure is written as " + ", ".join(f".{k}" for k in kinds)
+                             + "; name the file accordingly")
+        if path.exists() and not args.overwrite:
+            raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
+        problem = target_problem(path)
+    else:
+        problem = output_problem(path, args.overwrite)
+        if problem == EXISTS:
+            raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
+    if problem:
+        raise UsageError(f"{option} {path}: {problem}")
     return path
+
+
+def _figure_kinds():
+    """File suffixes Matplotlib writes a figure as (png, pdf, svg, ...)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    return sorted(Figure().canvas.get_supported_filetypes())
 
 
 def _table(rows):
@@ -200,7 +226,7 @@ def _cmd_continue(args):
     _check_numbers(args)
     source, config = resolve_args(args)
     path = _target(args, "-branch.nc", given=args.output, source=source)
-    figure = _target(args, "", "--figure", given=args.figure) if args.figure else None
+    figure = _target(args, "", "--figure", given=args.figure, figure=True) if args.figure else None
     try:
         branch, summaries, family = find_branch(
             config, args.stop, args.parameter, start=args.start, warmup=args.warmup, jacobian=args.jacobian,
@@ -245,7 +271,7 @@ def _save_figure(branches, path, title=None, log=True):
 def _cmd_plot_branch(args):
     from .._files import read_netcdf
 
-    out = _target(args, "", given=args.output)
+    out = _target(args, "", given=args.output, figure=True)
     branches = {}
     for name in args.branches:
         p = Path(name)
