@@ -9,6 +9,7 @@ determinant of the saltation of a restitution impact (``e^2`` per impact).
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -170,6 +171,30 @@ def test_cli_periodic_writes_a_loadable_file(tmp_path, capsys):
     assert ds.attrs["stable"] == 1 and ds.attrs["period"] == pytest.approx(0.2)
     assert main(["periodic", "--scenario", "paper-dry", "-o", str(out)]) == 2  # exists: never replaced
     assert "--overwrite" in capsys.readouterr().err
+
+
+def test_a_failed_final_write_keeps_the_orbit_in_a_fallback_file(tmp_path, monkeypatch, capsys):
+    """Issue 37 item 3: a write that failed at the end (a full disk, a folder turned read-only) lost the work
+    with a traceback. As ``run`` does, the results go beside the target (or here, or the temporary folder),
+    the error line says where, and the status is 1."""
+    from lubelink import netcdf
+
+    out = tmp_path / "dry.nc"
+    real = netcdf.write
+
+    def full_disk(results, path, overwrite=False):
+        if Path(path) == out:
+            raise OSError(28, "No space left on device")
+        return real(results, path, overwrite=overwrite)
+
+    monkeypatch.setattr(netcdf, "write", full_disk)
+    assert main(["periodic", "--scenario", "paper-dry", "--set", "beam.damping_ratio=0.05", "-o", str(out)]) == 1
+    captured = capsys.readouterr()
+    assert "No space left on device" in captured.err and "instead" in captured.err
+    assert "Traceback" not in captured.err and not out.exists()
+    kept = [p for p in tmp_path.iterdir() if p.suffix == ".nc"]
+    assert len(kept) == 1 and lubelink.load(kept[0]).attrs["period"] == pytest.approx(0.2)
+    assert str(kept[0]) in captured.out  # the summary names the file written
 
 
 def test_the_monodromy_from_the_models_jacobian_equals_the_differences():

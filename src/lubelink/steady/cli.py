@@ -162,7 +162,7 @@ def _cmd_periodic(args):
     import numpy as np
 
     from ..cli import resolve_args
-    from ..netcdf import ResultsFileError, write
+    from ..cli import _write_results
     from .orbit import find_periodic, orbit_results
     from .shooting import ShootingError
 
@@ -176,11 +176,8 @@ def _cmd_periodic(args):
         print(f"lubelink: {exc}", file=sys.stderr)
         return 1
     r = orbit_results(orbit)
-    try:
-        write(r, path, overwrite=args.overwrite)
-    except ResultsFileError as exc:
-        raise UsageError(str(exc)) from None
-    if not args.quiet:
+    path, failure = _write_results(r, path, args.overwrite)
+    if not args.quiet and path is not None:
         a = r.attrs
         u = np.abs(r["u2_mid"])
         i = int(np.argmax(u))
@@ -210,6 +207,9 @@ def _cmd_periodic(args):
         rows.append(("wall time", f"{time.perf_counter() - began:.3f} s"))
         rows.append(("wrote", str(path)))
         print(_table(rows))
+    if failure:
+        print(f"lubelink: error: {failure}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -217,7 +217,7 @@ def _cmd_continue(args):
     import time
 
     from ..cli import resolve_args
-    from ..netcdf import ResultsFileError, write
+    from ..cli import _write_results
     from ..results import dataset
     from .branch import branch_results, find_branch
     from .shooting import MapFailure, ShootingError
@@ -235,13 +235,14 @@ def _cmd_continue(args):
         print(f"lubelink: no periodic response at the start: {exc}", file=sys.stderr)
         return 1
     r = branch_results(branch, summaries, family)
-    try:
-        write(r, path, overwrite=args.overwrite)
-    except ResultsFileError as exc:
-        raise UsageError(str(exc)) from None
-    if figure is not None:
-        _save_figure(dataset(r), figure, title=f"{source}: periodic response against {args.parameter}")
-    if not args.quiet:
+    path, failure = _write_results(r, path, args.overwrite)
+    if figure is not None and path is not None:
+        try:
+            _save_figure(dataset(r), figure, title=f"{source}: periodic response against {args.parameter}")
+        except OSError as exc:  # the branch is written: say so and go on
+            failure = f"--figure {figure}: could not be written ({exc.strerror or exc}); the branch is in {path}"
+            figure = None
+    if not args.quiet and path is not None:
         pts = branch.points
         stable = sum(p.stable for p in pts)
         rows = [("source", str(source)),
@@ -253,6 +254,9 @@ def _cmd_continue(args):
                 ("wall time", f"{time.perf_counter() - began:.2f} s, {branch.evaluations} periods integrated"),
                 ("wrote", str(path) + (f", {figure}" if figure else ""))]
         print(_table(rows))
+    if failure:
+        print(f"lubelink: error: {failure}", file=sys.stderr)
+        return 1
     return 0 if branch.status == "complete" else 1
 
 
