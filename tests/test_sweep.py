@@ -969,3 +969,36 @@ def test_the_regime_quantities_tell_the_regimes_of_examples_sweep_regimes(overri
     assert (record["peak_asperity_force"] > 1.0) == asperities
     assert (record["peak_contact_force"] > 0.0) == contact
     assert (record["min_film"] < lubelink.results.config_of(ds).contact.min_film) == contact
+
+
+def test_a_crafted_zarr_v2_store_with_a_pickle_codec_runs_no_code(tmp_path, capsys):
+    """Issue 37 (security): a sweep store is data from elsewhere. A Zarr v2 store that claims to be a sweep and
+    holds an object array with the pickle codec, whose payload would create a file when unpickled, is refused
+    in one line and runs nothing (Zarr >= 3 has no pickle codec: pyproject.toml keeps that bound)."""
+    import json
+    import pickle
+
+    store = tmp_path / "s.zarr"
+    (store / "status").mkdir(parents=True)
+    (store / ".zgroup").write_text(json.dumps({"zarr_format": 2}))
+    (store / ".zattrs").write_text(json.dumps({"lubelink_sweep_format": "1.0", "swept_dims": "film.viscosity",
+                                               "quantities": ""}))
+    (store / "status" / ".zarray").write_text(json.dumps({
+        "zarr_format": 2, "shape": [1], "chunks": [1], "dtype": "|O", "compressor": None, "fill_value": None,
+        "filters": [{"id": "pickle"}], "order": "C", "dimension_separator": "."}))
+    (store / "status" / ".zattrs").write_text(json.dumps({"_ARRAY_DIMENSIONS": ["film.viscosity"]}))
+    marker = tmp_path / "PWNED"
+
+    class Payload:
+        def __reduce__(self):
+            return (Path.touch, (marker,))
+
+    payload = np.empty(1, dtype=object)
+    payload[0] = Payload()
+    (store / "status" / "0").write_bytes(pickle.dumps(payload))
+    assert cli_main(["plot-sweep", str(store), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert "not a readable Zarr store" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    with pytest.raises(SweepError):
+        load_sweep(store)
+    assert not marker.exists()
