@@ -89,7 +89,6 @@ class NumbaUnavailable(RuntimeError):
     """The compiled path was asked for where Numba is missing or disabled."""
 
 
-@lru_cache(maxsize=1)
 def compile_errors() -> tuple:
     """The exception types of a failed compilation (empty without Numba): ``except compile_errors():``."""
     try:
@@ -99,6 +98,7 @@ def compile_errors() -> tuple:
     return (NumbaError,)
 
 
+@lru_cache(maxsize=1)
 def package_stamp() -> bytes:
     """SHA-256 of every source file of the package that holds ``@jitable`` or ``@kernel`` code."""
     digest = hashlib.sha256()

@@ -296,13 +296,17 @@ def _advance_types(types_head):
     return types_head + (f8, f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], i8[::1])
 
 
-def advance_types(p_type):
-    """The argument types :func:`advance` is compiled for with any method and parameters of type ``p_type``."""
+def _types_head(p_type):
+    """The types of :func:`advance`'s kernels (``init``, ``step``, ``dense``, ``rhs``, ``event``) and parameters."""
     from numba import types
 
     sigs = signatures(p_type)
-    head = tuple(types.FunctionType(s) for s in (sigs[2], sigs[3], sigs[4], sigs[0], sigs[1]))
-    return _advance_types(head + (p_type,))
+    return tuple(types.FunctionType(s) for s in (sigs[2], sigs[3], sigs[4], sigs[0], sigs[1])) + (p_type,)
+
+
+def advance_types(p_type):
+    """The argument types :func:`advance` is compiled for with any method and parameters of type ``p_type``."""
+    return _advance_types(_types_head(p_type))
 
 
 @_by_identity
@@ -319,13 +323,10 @@ def precompile(method, p_type):
     Only the types of the right-hand side and of the event are needed, not their machine code: a
     cold start compiles this half while another process compiles the model's kernels.
     """
-    from numba import types
-
     sigs = signatures(p_type)
-    for kernel, sig in zip((method.init, method.step, method.dense), sigs[2:]):
-        first_class(kernel, sig)
-    head = tuple(types.FunctionType(s) for s in (sigs[2], sigs[3], sigs[4], sigs[0], sigs[1]))
-    _entry_point(head + (p_type,))
+    for func, sig in zip((method.init, method.step, method.dense), sigs[2:]):
+        first_class(func, sig)
+    _entry_point(_types_head(p_type))
 
 
 # --- the Python side of a segment -------------------------------------------------------------------

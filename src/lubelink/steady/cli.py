@@ -119,13 +119,11 @@ def _target(args, suffix, option="--output", given=None, source=None, figure=Fal
         if path.suffix.lower().lstrip(".") not in kinds:
             raise UsageError(f"{option} {path}: a figure is written as " + ", ".join(f".{k}" for k in kinds)
                              + "; name the file accordingly")
-        if path.exists() and not args.overwrite:
-            raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
-        problem = target_problem(path)
+        problem = EXISTS if path.exists() and not args.overwrite else target_problem(path)
     else:
         problem = output_problem(path, args.overwrite)
-        if problem == EXISTS:
-            raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
+    if problem == EXISTS:
+        raise UsageError(f"{option} {path}: the file exists; add --overwrite to replace it")
     if problem:
         raise UsageError(f"{option} {path}: {problem}")
     return path

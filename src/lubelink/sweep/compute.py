@@ -24,6 +24,12 @@ __all__ = ["summarise", "regime", "MIXED_SHARE"]
 MIXED_SHARE = 0.01
 
 
+def _peak(ds, name, absent=math.nan):
+    """``max |ds[name]|`` (NaN ignored), or ``absent`` where the variable is missing or empty."""
+    v = np.asarray(ds[name]) if name in ds else np.array([])
+    return float(np.nanmax(np.abs(v))) if v.size else absent
+
+
 def regime(ds) -> str:
     """The lubrication regime of one run's results: ``"contact"``, ``"dry"``, ``"mixed"`` or ``"full film"``.
 
@@ -33,8 +39,7 @@ def regime(ds) -> str:
     carry part of the load); else ``"full film"``.
     """
     def peak(name):
-        v = np.asarray(ds[name]) if name in ds else np.array([])
-        return float(np.nanmax(np.abs(v))) if v.size else 0.0
+        return _peak(ds, name, 0.0)
 
     impacts = int(ds.attrs.get("impact_count", ds["impact_time"].size if "impact_time" in ds else 0))
     if (impacts > 0 or peak("contact_force") > 0.0
@@ -63,8 +68,7 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
         return np.asarray(ds[name]) if name in ds else np.array([])
 
     def peak(name):
-        v = values(name)
-        return float(np.nanmax(np.abs(v))) if v.size else math.nan
+        return _peak(ds, name)
 
     times, film_min, t = values("impact_time"), values("film_min"), values("time")
     compute = {
