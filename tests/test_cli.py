@@ -290,6 +290,29 @@ def test_sigterm_during_a_run_is_a_clean_exit_143(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("delay", [0.05, 0.15, 0.3, 0.6, 1.2])
+def test_ctrl_c_at_any_moment_of_the_start_is_one_line_and_130(tmp_path, delay):
+    """Ctrl-C while the interpreter starts, the package and the libraries load, the command is parsed or
+    the kernels load: one line and status 130, never a traceback (a signal before Python has installed
+    its handler ends the process silently, as for any program)."""
+    import signal
+    import time
+
+    p = subprocess.Popen([sys.executable, "-m", "lubelink", "run", "-q", "--set", "solver.max_step=1e-9",
+                          "--set", "solver.t_end=0.2", "--set", "solver.max_wall_time=120"], cwd=tmp_path,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(delay)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    if p.returncode == -signal.SIGINT:
+        assert err == ""
+    else:
+        assert p.returncode == 130, err
+        assert "Traceback" not in err and err.strip().splitlines()[-1].startswith("lubelink: interrupted"), err
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("umask", [0o002, 0o022, 0o077])
 def test_results_files_honour_the_umask(tmp_path, umask):
     import os

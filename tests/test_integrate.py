@@ -215,10 +215,34 @@ def test_progress_and_deadline():
     # about every 1 % of the interval (0.5 here; the steps are about 0.1 long)
     assert seg.status == "finished" and len(seen) >= 50
     assert np.all(np.diff(seen) >= 0) and np.max(np.diff(seen)) < 1.0 and seen[-1] == 50.0
-    # the deadline is checked at each return to Python: after the first call's STEPS_PER_CALL steps
+    # the deadline is checked at each return to Python: after the first call's step
     late = solve(50.0, [20.0], "bulirsch-stoer", rtol=1e-10, atol=1e-13, deadline=0.0)
     assert late.status == "timeout" and "wall-time budget" in late.message
     assert 0.0 < late.t_final < 50.0 and np.all(np.isfinite(late.y_final))
+
+
+@pytest.mark.parametrize("m", ["DOP853", "bulirsch-stoer"])
+def test_a_slow_right_hand_side_overruns_the_deadline_by_at_most_a_step(monkeypatch, m):
+    """Steps of a kind not yet timed: the first call into the loop takes one, so that the deadline (and
+    Ctrl-C, which waits for the same return to Python) acts within about one step however long the
+    steps are. A right-hand side that costs 10 ms of a virtual clock, the deadline 0.1 s away: the
+    clock passes it by less than one step's evaluations (a fixed first call of 64 steps overran it
+    by seconds)."""
+    from lubelink.integrate import driver
+
+    clock = {"now": 0.0, "calls": 0}
+
+    def slow(t, y, out, p):
+        clock["now"] += 0.01
+        clock["calls"] += 1
+        oscillator.py_func(t, y, out, p)
+
+    monkeypatch.setattr(driver.time, "perf_counter", lambda: clock["now"])
+    seg = integrate(method(m), Problem(slow, level.py_func, np.array([2 * np.pi, -2.0])), 0.0, np.array([1.0, 0.0]),
+                    100.0, np.zeros(0), Options(compiled=False, rtol=1e-8, atol=1e-10, deadline=0.1))
+    assert seg.status == "timeout" and 0.0 < seg.t_final < 100.0
+    per_step = clock["calls"] / seg.nsteps
+    assert clock["now"] - 0.1 <= 0.01 * per_step * 1.5 + 1e-12, (clock["now"], seg.nsteps, per_step)
 
 
 def test_the_calls_into_compiled_code_change_nothing_but_their_number(monkeypatch):
@@ -240,7 +264,7 @@ def test_the_calls_into_compiled_code_change_nothing_but_their_number(monkeypatc
         np.testing.assert_array_equal(seg.y, segs[0].y)
         assert seg.nsteps == segs[0].nsteps
     assert segs[2].extra["kept"] == 10**6  # one call: nothing measured, the budget kept unchanged
-    assert 16 <= segs[0].extra["kept"] <= 1_000_000  # measured after the first call
+    assert 1 <= segs[0].extra["kept"] <= 1_000_000  # measured after the first call
 
 
 def test_scipy_methods_share_the_driver():

@@ -208,3 +208,46 @@ def test_a_cold_first_run_end_to_end_then_a_compiled_run_with_the_same_results(t
     again = lubelink.load(tmp_path / "b.nc")
     assert again.attrs["backend"] == "numba" and again.attrs["backend_note"] == ""
     assert abs(again["u2_mid"] - ds["u2_mid"]).max() < 1e-9  # [m]; the peak is 2.7 mm
+
+
+LOST_CTRL_C = """
+import contextlib, ctypes, os, signal, sys, time
+from lubelink._prewarm import ctrl_c_while_compiling
+
+def inside():  # Python called back from C, as LLVM's object cache calls Numba while it compiles
+    os.kill(os.getpid(), signal.SIGINT)
+    for _ in range(10000):
+        sum(range(10))
+
+callback = ctypes.CFUNCTYPE(None)(inside)
+began = time.monotonic()
+try:
+    with ctrl_c_while_compiling() if sys.argv[1] == "guarded" else contextlib.nullcontext():
+        callback()
+        while time.monotonic() < began + 3:
+            time.sleep(0.001)
+    print("finished")
+except KeyboardInterrupt:
+    print(f"interrupted after {time.monotonic() - began:.3f} s")
+"""
+
+
+@pytest.mark.skipif(not hasattr(__import__("signal"), "setitimer"), reason="POSIX timers")
+def test_a_ctrl_c_lost_in_a_callback_from_the_compiler_interrupts_all_the_same(tmp_path):
+    """Ctrl-C inside a ctypes callback (where Numba's compilation runs Python) is printed as "Exception
+    ignored" and lost: the program goes on. Inside ``ctrl_c_while_compiling`` it is raised again and
+    leaves the block within a fraction of a second, with nothing else said."""
+    import signal
+
+    script = tmp_path / "lost.py"
+    script.write_text(LOST_CTRL_C)
+    out = {}
+    for mode in ("bare", "guarded"):
+        r = subprocess.run([sys.executable, str(script), mode], capture_output=True, text=True, timeout=60,
+                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        assert r.returncode == 0, r.stderr
+        out[mode] = r
+    assert out["bare"].stdout.strip() == "finished" and "Exception ignored" in out["bare"].stderr
+    said = out["guarded"].stdout.strip()
+    assert out["guarded"].stderr == ""  # the lost one is not reported: it is raised again
+    assert said.startswith("interrupted after") and float(said.split()[2]) < 1.0, said

@@ -436,6 +436,28 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, cli
     assert runs[-1]["scheduler"] == f"Dask scheduler {address}"
 
 
+def test_ctrl_c_to_the_process_group_is_one_line_from_the_client(tmp_path):
+    """Ctrl-C at a terminal reaches every process of the group: the workers of the sweep's own local
+    cluster leave it to the client (no traceback of theirs), which says one line and exits 130."""
+    (tmp_path / "slow.toml").write_text('base = "paper-dry"\n[set]\n"solver.t_end" = 1.0\n'
+                                        '[vary]\n"solver.max_step" = [1e-6, 1.1e-6, 1.2e-6, 1.3e-6]\n')
+    proc = subprocess.Popen([sys.executable, "-m", "lubelink", "sweep", "slow.toml", "-o", "s.zarr", "--workers", "2"],
+                            cwd=tmp_path, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    end = time.monotonic() + 120
+    while proc.poll() is None and not (tmp_path / "s.zarr").exists() and time.monotonic() < end:
+        time.sleep(0.05)
+    time.sleep(1.0)  # the workers are computing the first points
+    os.killpg(proc.pid, signal.SIGINT)
+    try:
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and err.strip().splitlines()[-1].startswith("lubelink: interrupted"), err
+
+
 @on_cluster
 def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tmp_path):
     # points of about a second each (7 modes at a tight tolerance), so that the kill, polled every

@@ -27,35 +27,61 @@ module             job
 =================  ===========================================================
 """
 
-from .config import ConfigError, SCENARIOS, load as load_config, resolve as resolve_config
-from .params import Beam, Collar, Config, Contact, Film, Mechanism, Output, Solver
-from .netcdf import ResultsFileError, load, save
-from .simulate import simulate
+import importlib as _importlib
+import sys as _sys
+import types as _types
 
-#: Names served by their subpackage on first use (``lubelink run`` does not import them).
-_LAZY = {"ShootingError": "steady", "continuation": "steady", "periodic": "steady",
-         "load_sweep": "sweep", "run_sweep": "sweep"}
+#: The public names and the module that serves each. Nothing is imported until a name is first used
+#: (PEP 562): ``import lubelink`` takes milliseconds, so the ``lubelink`` command can catch Ctrl-C
+#: from its first line on, and the heavy libraries (Numba, xarray) load when a run needs them.
+_SERVED_BY = {
+    "simulate": "simulate", "load": "netcdf", "save": "netcdf", "ResultsFileError": "netcdf",
+    "load_config": ("config", "load"), "resolve_config": ("config", "resolve"), "SCENARIOS": "config",
+    "ConfigError": "errors", "Config": "params", "Mechanism": "params", "Beam": "params", "Film": "params",
+    "Collar": "params", "Contact": "params", "Solver": "params", "Output": "params",
+    "ShootingError": "steady", "continuation": "steady", "periodic": "steady",
+    "load_sweep": "sweep", "run_sweep": "sweep",
+}
 
 
 def __getattr__(name):
-    if name in _LAZY:
-        import importlib
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
 
-        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'lubelink' has no attribute {name!r}")
+        try:
+            value = version("lubelink")
+        except PackageNotFoundError:  # running from a source tree
+            value = "0+unknown"
+    elif name in _SERVED_BY:
+        module, attr = _SERVED_BY[name] if isinstance(_SERVED_BY[name], tuple) else (_SERVED_BY[name], name)
+        value = getattr(_importlib.import_module(f".{module}", __name__), attr)
+    else:
+        try:
+            return _importlib.import_module(f".{name}", __name__)  # a submodule, as ``import lubelink.x`` gives
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    globals()[name] = value
+    return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_SERVED_BY) | {"__version__"})
 
-try:
-    from importlib.metadata import version as _version
 
-    __version__ = _version("lubelink")
-except Exception:  # not installed (running from a source tree)
-    __version__ = "0+unknown"
+class _Package(_types.ModuleType):
+    """The package's module: ``lubelink.simulate`` stays the function when the import system binds
+    the submodule of the same name to the package (as the eager ``from .simulate import simulate``
+    of a non-lazy package would leave it)."""
+
+    def __setattr__(self, name, value):
+        if isinstance(value, _types.ModuleType) and name in _SERVED_BY and getattr(value, name, None) is not None:
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+_sys.modules[__name__].__class__ = _Package
 
 __all__ = [
     "simulate",

@@ -30,6 +30,7 @@ cache); runs started meanwhile run as Python too, or compile themselves when tha
 from __future__ import annotations
 
 import atexit
+import contextlib
 import os
 import select
 import subprocess
@@ -38,7 +39,7 @@ import time
 
 from ._jit import compile_errors, cores
 
-__all__ = ["start", "wait", "first_run", "compile_on_two_cores"]
+__all__ = ["start", "wait", "first_run", "compile_on_two_cores", "ctrl_c_while_compiling"]
 
 #: Longest wait for the helper [s]: beyond it this process compiles what it still needs itself.
 WAIT_LIMIT = 120.0
@@ -254,12 +255,73 @@ def compile_on_two_cores(model, motion=None):
     from .choice import method_name
     from .integrate.driver import precompile
 
+    with ctrl_c_while_compiling():
+        try:
+            precompile(integrate.method(method_name(model.config)), model.params_type)
+            compile_results(model)
+        except compile_errors():
+            return  # the run itself meets the error and falls back
+        wait(helper)
+
+
+#: Interval [s] at which an interruption lost inside a compilation is raised again.
+AGAIN = 0.05
+
+
+@contextlib.contextmanager
+def ctrl_c_while_compiling():
+    """Make one Ctrl-C interrupt a compilation.
+
+    Numba calls back into Python while LLVM compiles (its object cache, through ctypes); a
+    KeyboardInterrupt raised there is printed as "Exception ignored on calling ctypes callback
+    function" and lost, and the compilation goes on, or fails later on a half-built library. While
+    this block runs in the main thread, Ctrl-C raises KeyboardInterrupt as usual and again every
+    :data:`AGAIN` seconds (SIGALRM) until one leaves the block, without the report of the lost ones;
+    an exception that leaves it after a Ctrl-C becomes a KeyboardInterrupt. Nothing changes where the program has its own SIGINT or
+    SIGALRM handler, or outside the main thread.
+    """
+    import signal
+    import threading
+
+    if (threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer")
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+            or signal.getsignal(signal.SIGALRM) is not signal.SIG_DFL):
+        yield
+        return
+    pressed = []
+
+    def on_ctrl_c(signum, frame):
+        pressed.append(signum)
+        signal.setitimer(signal.ITIMER_REAL, AGAIN)
+        raise KeyboardInterrupt
+
+    def again(signum, frame):
+        if not isinstance(sys.exc_info()[1], KeyboardInterrupt):  # not already on its way out
+            on_ctrl_c(signum, frame)
+
+    def unraisable(report):  # the lost one is raised again: no "Exception ignored" report for it
+        if not (pressed and issubclass(report.exc_type, KeyboardInterrupt)):
+            hook(report)
+
+    hook, sys.unraisablehook = sys.unraisablehook, unraisable
+    signal.signal(signal.SIGALRM, again)
+    signal.signal(signal.SIGINT, on_ctrl_c)
     try:
-        precompile(integrate.method(method_name(model.config)), model.params_type)
-        compile_results(model)
-    except compile_errors():
-        return  # the run itself meets the error and falls back
-    wait(helper)
+        yield
+    except KeyboardInterrupt:
+        raise
+    except BaseException as exc:
+        if pressed:
+            raise KeyboardInterrupt from exc
+        raise
+    else:
+        if pressed:
+            raise KeyboardInterrupt
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGALRM, signal.SIG_DFL)
+        sys.unraisablehook = hook
 
 
 def _stop(proc):

@@ -12,7 +12,7 @@ import importlib
 import sys
 from pathlib import Path
 
-from .errors import BackendError, Terminated, UsageError, exit_status, interrupted, suggest
+from .errors import BackendError, ConfigError, Terminated, UsageError, exit_status, interrupted, suggest
 
 __all__ = ["main", "resolve_args", "UsageError"]
 
@@ -340,8 +340,6 @@ COMMANDS = {"run": _cmd_run, "config": _cmd_config, "scenarios": _cmd_scenarios,
 
 def main(argv=None):
     """Entry point of the ``lubelink`` command; returns the exit status."""
-    from .config import ConfigError
-
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((a for a in argv if not a.startswith("-")), None)
     parser = build_parser(extensions=command not in COMMANDS)
@@ -377,7 +375,8 @@ MAX_ERROR_LINES = 50
 def console():
     """The ``lubelink`` command as a process of its own (``[project.scripts]``, ``python -m lubelink``).
 
-    :func:`main`, with two things only a whole process may do. Start-up imports NumPy, Numba and
+    :func:`main`, with three things only a whole process may do. Ctrl-C before :func:`main` has
+    parsed the command (while the libraries load) gets the same one line as later. Start-up imports NumPy, Numba and
     the compiled kernels, a few hundred thousand objects of which none is garbage: the cycle
     collector runs less often meanwhile (about 0.1 s). And once the command has returned, its output
     written, renamed and flushed, and the exit handlers run, the process ends without the
@@ -389,7 +388,11 @@ def console():
     import os
 
     gc.set_threshold(20_000, 50, 1_000)
-    status = main()
+    try:
+        status = main()
+    except KeyboardInterrupt as exc:  # before main's own handler: loading the libraries, parsing
+        print(f"lubelink: {interrupted(exc)}", file=sys.stderr)
+        status = exit_status(exc)
     getattr(atexit, "_run_exitfuncs", lambda: None)()  # (public in effect: what the interpreter runs at exit)
     for stream in (sys.stdout, sys.stderr):
         try:

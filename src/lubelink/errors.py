@@ -1,15 +1,24 @@
 """Exceptions shared by the library and the command line, and the "did you mean" hint.
 
-``ConfigError`` (invalid parameters) lives in :mod:`lubelink.config`, where validation happens;
-``UsageError`` is bad command-line input that is not a parameter. Both are reported by the CLI as
-one line per problem with exit status 2.
+``ConfigError`` is invalid parameters (raised by :mod:`lubelink.validation` and
+:mod:`lubelink.config`, which also serves the name); ``UsageError`` is bad command-line input
+that is not a parameter. Both are reported by the CLI as one line per problem with exit status 2.
+This module imports nothing heavy: the command line catches these from its first line on.
 """
 
 from __future__ import annotations
 
 import difflib
 
-__all__ = ["UsageError", "BackendError", "Terminated", "suggest", "exit_status", "interrupted"]
+__all__ = ["ConfigError", "UsageError", "BackendError", "Terminated", "suggest", "exit_status", "interrupted"]
+
+
+class ConfigError(ValueError):
+    """Invalid configuration; ``problems`` lists one message per fault."""
+
+    def __init__(self, problems):
+        self.problems = list(problems)
+        super().__init__("\n".join(self.problems))
 
 
 class UsageError(Exception):

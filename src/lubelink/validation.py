@@ -10,17 +10,10 @@ from __future__ import annotations
 
 import math
 
+from .errors import ConfigError
 from .params import CHOICES, Config
 
 __all__ = ["ConfigError", "RULES", "validate", "MAX_SAMPLES"]
-
-
-class ConfigError(ValueError):
-    """Invalid configuration; ``problems`` lists one message per fault."""
-
-    def __init__(self, problems):
-        self.problems = list(problems)
-        super().__init__("\n".join(self.problems))
 
 
 # ----------------------------------------------------------------- rules

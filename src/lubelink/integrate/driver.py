@@ -3,7 +3,7 @@
 :func:`advance` is the loop in compiled code. It takes the method (``init``, ``step``, ``dense``)
 and the problem (``rhs``, ``event``, parameters ``p``) as arguments, as first-class
 functions, so it knows nothing of either; it runs a method until the end of the interval, an event
-(:func:`.events.locate`), a failure, or a pause (every ``STEPS_PER_CALL`` steps, or at
+(:func:`.events.locate`), a failure, or a pause (after a step budget, or at
 ``F_TPAUSE``) at which :func:`integrate` returns to Python for progress and the deadline and
 calls it again. With ``compiled=False`` the same source runs as Python (the ``numpy`` backend):
 then any Python callables serve as method and problem, which is how SciPy's solvers are driven
@@ -41,8 +41,11 @@ from .events import locate
 __all__ = ["Segment", "Problem", "Options", "Method", "integrate", "advance", "first_class", "precompile",
            "STEPS_PER_CALL", "BUDGETS"]
 
-#: Steps of the first call into compiled code; later calls take as many as fill :data:`CALL_SECONDS`.
-STEPS_PER_CALL = 64
+#: Steps of the first call into compiled code of a kind not yet timed; later calls take as many as
+#: fill :data:`CALL_SECONDS`, at least one. One step first, so that a step of minutes (a 2-D film on
+#: a fine grid) is timed before a budget is chosen: the deadline and Ctrl-C then act after at most
+#: about one step, and a cheap kind pays one extra call (about 50 us).
+STEPS_PER_CALL = 1
 #: The step budget of a call into compiled code that the last integration of a kind measured, by
 #: ``(method name, id(Numba type of p))``: the next one of that kind (the next segment of a run, a run
 #: like an earlier one) starts with it, so a short segment takes one call (each costs about 50 us to
@@ -424,7 +427,7 @@ def integrate(method, problem, t0, y0, t_end, t_eval, options=None, *, event_sig
             taken = max(int(ist[S_NSTEPS] - steps), 1)
             elapsed = max(time.perf_counter() - began, 1e-6)
             seconds = CALL_SECONDS if deadline is None else min(CALL_SECONDS, deadline - time.perf_counter())
-            ist[S_MAXSTEPS] = int(min(max(taken * seconds / elapsed, 16), 1_000_000))  # (a deadline: it returns there)
+            ist[S_MAXSTEPS] = int(min(max(taken * seconds / elapsed, 1), 1_000_000))  # (a deadline: it returns there)
             if deadline is not None and time.perf_counter() > deadline:
                 status, message = "timeout", f"the wall-time budget ran out at t = {fst[F_T]:.9g} s"
                 fst[F_TFINAL] = fst[F_T]

@@ -55,6 +55,26 @@ def _cpu_count() -> int:
         return os.cpu_count() or 1
 
 
+def _hold_sigint():
+    """Block SIGINT in the calling (main) thread; returns what restores the mask.
+
+    Ctrl-C at a terminal reaches the whole process group. The local cluster's processes, started
+    meanwhile (by threads started meanwhile), inherit the blocked mask: the signal reaches the client
+    alone, which stops the sweep and closes the cluster, instead of each worker printing its own
+    KeyboardInterrupt traceback. A Ctrl-C pressed while the mask is held waits, and is raised when
+    it is restored.
+    """
+    import signal
+    import threading
+    from multiprocessing import resource_tracker
+
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    resource_tracker.ensure_running()  # now: the thread that starts it later unblocks SIGINT as it does
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    return lambda: signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 @contextlib.contextmanager
 def _dask_client(client, scheduler, workers):
     """``(client, description)``: the user's client, one connected to ``scheduler``, or a LocalCluster."""
@@ -76,11 +96,17 @@ def _dask_client(client, scheduler, workers):
     import dask
 
     n = workers or _cpu_count()
-    with dask.config.set(LOCAL_CLUSTER_CONFIG):
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               silence_logs=logging.ERROR, dashboard_address=":0")
-        c = Client(cluster)
+    held = _hold_sigint()
     try:
+        with dask.config.set(LOCAL_CLUSTER_CONFIG):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   silence_logs=logging.ERROR, dashboard_address=":0")
+            c = Client(cluster)
+    except BaseException:
+        held()
+        raise
+    try:
+        held()  # a Ctrl-C pressed while the cluster started is raised here
         yield c, f"LocalCluster, {n} worker process(es)"
     finally:
         c.close()
