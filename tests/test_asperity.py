@@ -5,7 +5,7 @@ import pytest
 from scipy import integrate, special
 
 from lubelink.film import asperity
-from lubelink.film.reynolds import effective_film
+from lubelink.film.reynolds import effective_film, effective_film_slope, mean_gap, mean_gap_slope
 
 
 def f52_closed_form(lam):
@@ -45,13 +45,47 @@ def test_pressure_is_greenwood_tripp():
 def test_effective_film_is_continuous_with_its_slope_and_exact_above_twice_the_floor():
     hf = 1e-6
     xi = np.linspace(-3e-6, 5e-6, 8001)
-    h = np.array([effective_film(x, hf) for x in xi])
+    h = np.array([effective_film(x, hf, 0.0) for x in xi])
     assert np.all(h >= hf) and np.all(np.diff(h) >= 0)
     above = xi >= 2 * hf
     np.testing.assert_array_equal(h[above], xi[above])
     slope = np.diff(h) / np.diff(xi)
     assert np.max(np.abs(np.diff(slope))) < 1e-2  # no jump of the slope (C1)
-    assert effective_film(3e-6, 0.0) == 3e-6
+    assert effective_film(3e-6, 0.0, 0.0) == 3e-6
+    mid = 0.5 * (xi[1:] + xi[:-1])
+    np.testing.assert_allclose(slope, [effective_film_slope(x, hf, 0.0) for x in mid], atol=1e-3)
+
+
+@pytest.mark.parametrize("xi_sigma", [-3.0, -1.0, -0.3, 0.0, 0.4, 1.0, 2.5, 6.0])
+def test_mean_gap_is_the_expected_gap_over_gaussian_heights(xi_sigma):
+    """``mean_gap`` (Patir & Cheng's ``h_T``) against the expectation of ``max(xi + delta, 0)`` integrated
+    numerically over the normal density, and its slope against the share of the surface not in contact."""
+    from scipy import stats
+
+    sigma = 0.5e-6
+    xi = xi_sigma * sigma
+    expected = sigma * integrate.quad(lambda z: (xi_sigma + z) * stats.norm.pdf(z), -xi_sigma, 40.0, epsabs=0,
+                                      epsrel=1e-12)[0]
+    assert mean_gap(xi, sigma) == pytest.approx(expected, rel=1e-9)
+    assert mean_gap_slope(xi, sigma) == pytest.approx(stats.norm.sf(-xi, scale=sigma), rel=1e-12)
+    assert mean_gap(xi, 0.0) == xi and mean_gap_slope(xi, 0.0) == 1.0
+
+
+def test_with_roughness_a_floor_below_the_mean_gap_never_acts():
+    """The film of rough surfaces is thicker than ``0.083 sigma`` while the asperities are pressed less
+    than ``sigma`` into each other, so a floor below half of that changes nothing there: the film
+    converges (is exact) as the numerical floor goes to zero."""
+    sigma = 0.5e-6
+    xi = np.linspace(-1.0 * sigma, 10 * sigma, 2001)
+    h = np.array([effective_film(x, 0.0, sigma) for x in xi])
+    assert np.all(h > 0) and np.all(np.diff(h) > 0)
+    assert h[0] == pytest.approx(0.0833155 * sigma, rel=1e-5)
+    for floor in (0.04 * sigma, 0.01 * sigma):
+        np.testing.assert_array_equal([effective_film(x, floor, sigma) for x in xi], h)
+    assert effective_film(10 * sigma, 0.0, sigma) == pytest.approx(10 * sigma, rel=1e-15)
+    slope = np.diff(h) / np.diff(xi)
+    mid = 0.5 * (xi[1:] + xi[:-1])
+    np.testing.assert_allclose(slope, [effective_film_slope(x, 0.0, sigma) for x in mid], rtol=1e-5)
 
 
 def _model(**film):

@@ -86,8 +86,8 @@ FIELDS = {
                               "closed form"),
     "film.width_modes": ("1", "", "odd sine terms across the width of the 2d film"),
     "film.width_points": ("1", "", "points across the width where the 2d film is clipped (half-Sommerfeld)"),
-    "film.thickness_floor": ("m", "h_f", "below 2 h_f the Reynolds equation sees h_f + xi^2/(4 h_f); 0: off"),
-    "film.roughness": ("m", "sigma", "combined RMS roughness; > 0: Greenwood-Tripp asperity contact"),
+    "film.thickness_floor": ("m", "h_f", "below 2 h_f the Reynolds film h is h_f + h^2/(4 h_f); 0: off"),
+    "film.roughness": ("m", "sigma", "combined RMS roughness; > 0: Greenwood-Tripp asperity contact, mean-gap film"),
     "film.summit_product": ("1", "eta beta sigma", "asperity density x summit radius x roughness"),
     "film.summit_ratio": ("1", "sigma/beta", "roughness over summit radius"),
     "film.contact_modulus": ("Pa", "E'", "composite elastic modulus of the asperity contact"),
@@ -258,14 +258,16 @@ class Film:
     width_points : int
         Points across the width where the ``"2d"`` film is clipped (half-Sommerfeld) [-].
     thickness_floor : float
-        ``h_f`` [m]: below ``2 h_f`` the Reynolds equation sees the effective film
-        ``h_f + xi^2/(4 h_f)``, never thinner than ``h_f``
+        ``h_f`` [m]: where the film ``h`` is below ``2 h_f`` the Reynolds equation sees
+        ``h_f + h^2/(4 h_f)``, never thinner than ``h_f``
         (:func:`lubelink.film.reynolds.effective_film`); 0: the film as it is. The default, half
-        the default ``contact.min_film``, leaves every film above ``min_film`` unchanged.
+        the default ``contact.min_film``, leaves every smooth film above ``min_film`` unchanged.
+        With roughness a floor below ``0.04 sigma`` has no effect and none is needed.
     roughness : float
         Combined RMS roughness of the two surfaces [m] (``sigma``); 0: smooth, no asperity
         contact. With ``sigma > 0`` the asperities carry the Greenwood-Tripp pressure
-        (:mod:`lubelink.film.asperity`) beside the film (mixed lubrication).
+        (:mod:`lubelink.film.asperity`) beside the film (mixed lubrication), and the 1-D Reynolds
+        film is the mean gap of the rough surfaces (:func:`lubelink.film.reynolds.mean_gap`).
     summit_product : float
         ``eta beta sigma`` [-], asperity density times summit radius times roughness (0.03-0.05).
     summit_ratio : float

@@ -104,6 +104,12 @@ def _failure_message(message, config):
     if config.film.enabled and config.film.thickness_floor == 0.0 and config.contact.law == "compliant":
         from .params import Film
 
+        sigma = config.film.roughness
+        if sigma > 0.0:
+            return (f"{message.rstrip('.')}; with film.thickness_floor = 0 the film of the rough surfaces (their "
+                    f"mean gap) stiffens without limit as the asperities are pressed together: a floor of "
+                    f"0.04 film.roughness ({0.04 * sigma:.3g} m) bounds it and changes nothing while they are "
+                    f"pressed less than film.roughness into each other")
         return (f"{message.rstrip('.')}; with film.thickness_floor = 0 the film force grows without bound "
                 f"where the compliant contact closes the gap: set film.thickness_floor > 0 (the default is "
                 f"{Film.thickness_floor} m)")

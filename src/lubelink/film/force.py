@@ -135,7 +135,7 @@ def _reynolds_side(side, q, q_dot, ws, V_r, f, B, grid_trig, F):
             for k in range(G):
                 xi_t[k] -= a * grid_trig[COS, n, k] + b * grid_trig[SIN, n, k]
     for k in range(G - 1):
-        xi_mid[k] = effective_film(xi_mid[k], f.thickness_floor)
+        xi_mid[k] = effective_film(xi_mid[k], f.thickness_floor, f.roughness)
     p = np.empty(G)
     reynolds_cavitation(grid, xi_mid, xi_t, V_r, f.viscosity, f.cavitation_pressure - f.ambient_pressure, p)
     return grid_modal_force(side, p, h, B, ws, grid_trig, F)  # p = 0 at the pad ends: the trapezoidal rule
@@ -169,11 +169,11 @@ def _half_sommerfeld_side(side, ws, nodes, f, B, pad, S, F):
 
 
 @jitable
-def _keep_slope(slope, j, xi, floor):
+def _keep_slope(slope, j, xi, floor, sigma):
     """``slope[j] = d effective_film / d xi`` at ``xi`` (``slope`` None: compiles to nothing)."""
     if slope is None:
         return
-    slope[j] = effective_film_slope(xi, floor)
+    slope[j] = effective_film_slope(xi, floor, sigma)
 
 
 @jitable
@@ -205,8 +205,8 @@ def film_nodes(side, q, q_dot, ws, L, f, pad, slope):
     I2 = 0.0
     I3 = 0.0
     for j in range(nodes):
-        _keep_slope(slope, j, ws[o_xi + j], f.thickness_floor)
-        xi = effective_film(ws[o_xi + j], f.thickness_floor)
+        _keep_slope(slope, j, ws[o_xi + j], f.thickness_floor, f.roughness)
+        xi = effective_film(ws[o_xi + j], f.thickness_floor, f.roughness)
         ws[o_xi + j] = xi
         w_inv3 = pad.quad[1, j] / (xi * xi * xi)
         I1 += w_inv3 * xi

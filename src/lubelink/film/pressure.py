@@ -102,7 +102,7 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
         xi[:] = 0.5 * f.clearance
         add_deflection(q[i], s0, c0, sin_p, cos_p, -side, xi)
         for k in range(n_pts):
-            xi[k] = effective_film(xi[k], f.thickness_floor)
+            xi[k] = effective_film(xi[k], f.thickness_floor, f.roughness)
         if f.cavitation == REYNOLDS:
             _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])
             continue

@@ -8,13 +8,15 @@ that grid; :func:`pad_start` places the pad on the link.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._jit import jitable
 from ..params import CHOICES
 
 __all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film",
-           "effective_film_slope",
+           "effective_film_slope", "mean_gap", "mean_gap_slope",
            "grid_modal_force"]
 
 NO_FILM, WEDGE, WEDGE_SQUEEZE = (CHOICES["film.model"].index(v) for v in ("none", "wedge", "wedge+squeeze"))
@@ -37,30 +39,58 @@ def pad_start(x_star, pad_length, pad_reference):
 
 
 @jitable
-def effective_film(xi, floor):
-    """The film thickness the Reynolds equation sees [m]: ``xi`` above ``2 h_f``, never below ``h_f``.
+def mean_gap(xi, sigma):
+    """The mean gap between rough surfaces at nominal gap ``xi`` [m] (Patir & Cheng's ``h_T``).
 
-    ``h_e = xi`` for ``xi >= 2 h_f``, ``h_f + xi^2 / (4 h_f)`` for ``0 <= xi < 2 h_f`` and ``h_f``
-    for ``xi < 0`` (contact), ``h_f = floor`` (``film.thickness_floor``): continuous with its
-    slope, so the film force stays finite and smooth when the gap closes to the roughness scale
-    or a compliant contact penetrates (docs/breakdown.md). ``floor = 0``: ``xi`` unchanged.
-    The squeeze source keeps the rate of the true gap.
+    ``h_T = E[max(xi + delta, 0)]`` for Gaussian combined heights ``delta`` of RMS ``sigma`` [m]:
+    ``xi/2 (1 + erf(H/sqrt 2)) + sigma/sqrt(2 pi) exp(-H^2/2)``, ``H = xi/sigma``. It tends to
+    ``xi`` a few ``sigma`` above contact, is ``sigma/sqrt(2 pi)`` at ``xi = 0`` and stays positive
+    when the asperities are pressed together (``xi < 0``). ``sigma = 0``: ``xi``.
     """
-    if xi >= 2.0 * floor:
+    if sigma <= 0.0:
         return xi
-    if xi <= 0.0:
-        return floor
-    return floor + xi * xi / (4.0 * floor)
+    H = xi / sigma
+    return 0.5 * xi * (1.0 + math.erf(H / math.sqrt(2.0))) + sigma * math.exp(-0.5 * H * H) / math.sqrt(2.0 * math.pi)
 
 
 @jitable
-def effective_film_slope(xi, floor):
-    """``d effective_film / d xi`` [-]: 1 above ``2 h_f``, ``xi / (2 h_f)`` below, 0 in contact."""
-    if xi >= 2.0 * floor:
+def mean_gap_slope(xi, sigma):
+    """``d mean_gap / d xi`` [-]: the share of the surface not in contact, ``(1 + erf(H/sqrt 2)) / 2``."""
+    if sigma <= 0.0:
         return 1.0
-    if xi <= 0.0:
+    return 0.5 * (1.0 + math.erf(xi / (sigma * math.sqrt(2.0))))
+
+
+@jitable
+def effective_film(xi, floor, sigma):
+    """The film thickness the Reynolds equation sees [m] at nominal gap ``xi`` [m].
+
+    The mean gap of the rough surfaces, ``h = mean_gap(xi, sigma)`` (``film.roughness``; ``xi``
+    itself for smooth ones), kept above the floor ``h_f`` (``film.thickness_floor``): ``h`` above
+    ``2 h_f``, ``h_f + h^2 / (4 h_f)`` below, continuous with its slope, so the film force stays
+    finite when a smooth film closes or a compliant contact penetrates (docs/breakdown.md). With
+    roughness, ``h > 0.083 sigma`` while the asperities are pressed less than ``sigma`` into each
+    other (``xi > -sigma``): a floor below ``0.04 sigma`` never acts there, and results stop
+    depending on it. ``floor = 0``: ``h`` unchanged. The squeeze source keeps the rate of the
+    nominal gap.
+    """
+    h = mean_gap(xi, sigma)
+    if h >= 2.0 * floor:
+        return h
+    if h <= 0.0:
+        return floor
+    return floor + h * h / (4.0 * floor)
+
+
+@jitable
+def effective_film_slope(xi, floor, sigma):
+    """``d effective_film / d xi`` [-]."""
+    h = mean_gap(xi, sigma)
+    if h >= 2.0 * floor:
+        return mean_gap_slope(xi, sigma)
+    if h <= 0.0:
         return 0.0
-    return xi / (2.0 * floor)
+    return h / (2.0 * floor) * mean_gap_slope(xi, sigma)
 
 
 @jitable
