@@ -61,6 +61,32 @@ def test_film_jacobian_against_finite_differences(opts):
     assert acted > 1e3  # the film acts
 
 
+@pytest.mark.parametrize("cavitation", ["none", "half-sommerfeld"])
+def test_rough_film_jacobian_near_contact_against_finite_differences(cavitation):
+    """Rough surfaces within a few ``sigma`` of contact, no floor: the film is the mean gap and its squeeze
+    flow carries the contact factor, which depends on ``q`` (the ``P`` term of the module's docstring)."""
+    cfg = resolve("lubricated", {"film.clearance": 6e-6, "beam.modes": 4, "film.thickness_floor": 0.0,
+                                 "film.cavitation": cavitation, "film.sides": 2})
+    p = build_model(cfg).params
+    N = 4
+    q = np.array([1.5e-6, -4e-7, 2e-7, -1e-7])  # the gap 1.5 um +- 1.5 um along the pad: sigma = 1 um
+    args = (0.4, 1.3, p.film, p.beam.width, p.pad, p.basis.rod_length)
+
+    def force(q, q_dot):
+        F = np.zeros(N)
+        modal_film_force(q, q_dot, *args, F)
+        return F
+
+    q_dot = np.array([2e-3, -1e-3, 5e-4, 3e-4])
+    Jq, Jv = np.zeros((N, N)), np.zeros((N, N))
+    modal_film_jacobian(q, q_dot, *args, Jq, Jv)
+    Jq_fd = _fd(lambda x: force(x, q_dot), q, np.full(N, 1e-11))
+    Jv_fd = _fd(lambda x: force(q, x), q_dot, np.full(N, 1e-7))
+    np.testing.assert_allclose(Jq, Jq_fd, rtol=0, atol=1e-6 * np.abs(Jq_fd).max())
+    np.testing.assert_allclose(Jv, Jv_fd, rtol=0, atol=1e-6 * np.abs(Jv_fd).max())
+    assert np.abs(Jq_fd).max() > 1e3
+
+
 @pytest.mark.parametrize("sets", [
     {"film.clearance": 1e-4, "beam.modes": 5},
     {"film.clearance": 5e-6, "beam.modes": 4, "film.sides": 2, "beam.damping_ratio": 0.01},  # asperities touch

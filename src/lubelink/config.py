@@ -101,7 +101,7 @@ SCENARIOS: dict[str, dict] = {
     },
     "guide-mixed": {
         "description": "The guide with half its clearance (20 um in all, 10 um of oil a side): mixed lubrication, "
-                       "the asperities carrying more than the film (52 N beside 35 N), the gap never closing to "
+                       "the asperities carrying more than the film (54 N beside 37 N), the gap never closing to "
                        "contact (docs/breakdown.md)",
         "beam": {"modes": GUIDE_MODES},
         "film": {"model": "wedge+squeeze", "clearance": GUIDE_MIXED_CLEARANCE, "viscosity": GUIDE_VISCOSITY,

@@ -16,8 +16,8 @@ from .._jit import jitable, kernel, stack_empty
 from ..params import Film
 from ..views import kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
-                       WEDGE_SQUEEZE, effective_film, effective_film_slope, grid_modal_force, pad_start, pressure_gradient,
-                       reynolds_cavitation, reynolds_constant)
+                       WEDGE_SQUEEZE, effective_film, effective_film_slope, grid_modal_force, mean_gap_slope, pad_start,
+                       pressure_gradient, reynolds_cavitation, reynolds_constant)
 from .width import ONE_D, width_side, width_sines
 from ..beam import wavenumber, wavenumbers
 
@@ -39,7 +39,8 @@ class PadTables(NamedTuple):
     :data:`SIN`, :data:`COS`, :data:`VERS`), so that ``sin(beta_n (x0 + X_j))`` needs ``sin``,
     ``cos(beta_n x0)`` only; ``sample_trig`` (2, N, K): ``sin``, ``cos`` at the uniform samples of
     the thinnest-film search. The tables of one cavitation option are None for the others:
-    ``S`` [m], the spectral integration matrix on the nodes (half-Sommerfeld); ``grid_trig``
+    ``S`` [m], the spectral integration matrix on the nodes (half-Sommerfeld, and the squeeze flow of
+    rough surfaces); ``grid_trig``
     (4, N, G), ``sin``, ``cos`` at the points of the uniform grid and at its ``G - 1`` cell
     midpoints (Reynolds). A None table has another type in compiled code, so the kernels are
     compiled for the options a configuration uses only. ``grid_trig`` serves the finite-width
@@ -96,7 +97,7 @@ def pad_tables(modes, rod_length, film: Film) -> PadTables:
     if film.reynolds != "1d":
         if film.reynolds == "2d" and film.cavitation == "half-sommerfeld":
             zsin = width_sines(film.width_modes, film.width_points)
-    elif film.cavitation == "half-sommerfeld":
+    elif film.cavitation == "half-sommerfeld" or (film.roughness > 0.0 and film.model == "wedge+squeeze"):
         S = _c(l * integration_matrix(film.quadrature_nodes))
     if film.cavitation == "reynolds" or film.reynolds != "1d":
         grid = np.linspace(0.0, l, film.grid_points)
@@ -177,11 +178,36 @@ def _keep_slope(slope, j, xi, floor, sigma):
 
 
 @jitable
+def _mean_gap_flow(side, q_dot, ws, f, pad, S):
+    """Rough surfaces: the squeeze flow ``Q(X_j) = int_0^X_j dh_T/dt`` of the mean gap ``h_T`` into
+    ``ws`` (:func:`film_nodes`' layout, the nominal film at its nodes), ``dh_T/dt = c xi_t`` with the
+    contact factor ``c = mean_gap_slope(xi)``, integrated by ``S``; nothing for smooth surfaces, the
+    wedge film, or ``S`` None (compiled out).
+    """
+    if S is None or f.roughness <= 0.0 or f.model != WEDGE_SQUEEZE:
+        return
+    N = q_dot.shape[0]
+    nodes = S.shape[0]
+    o_xi, o_Q, o_rate = 2 * N, 2 * N + nodes, 2 * N + 2 * nodes
+    for k in range(nodes):
+        xi_t = 0.0
+        for n in range(N):
+            xi_t -= side * q_dot[n] * (ws[n] * pad.trig[COS, n, k] + ws[N + n] * pad.trig[SIN, n, k])
+        ws[o_rate + k] = mean_gap_slope(ws[o_xi + k], f.roughness) * xi_t
+    for j in range(nodes):
+        acc = 0.0
+        for k in range(nodes):
+            acc += S[j, k] * ws[o_rate + k]
+        ws[o_Q + j] = acc
+
+
+@jitable
 def film_nodes(side, q, q_dot, ws, L, f, pad, slope):
     """The film on ``side`` at the pad's nodes, and its integrals ``(I1, I2, I3)`` (:func:`reynolds_constant`).
 
     Writes the film the Reynolds equation sees, ``effective_film(H/2 - side u2(x0 + X_j))`` [m],
-    at ``ws[2 N:2 N + nodes]`` and ``Q(X_j)`` [m^2/s] (0 without the squeeze term) after it;
+    at ``ws[2 N:2 N + nodes]`` and ``Q(X_j)`` [m^2/s] (0 without the squeeze term; rough surfaces:
+    :func:`_mean_gap_flow`) after it;
     ``ws`` holds ``sin``, ``cos(beta_n x0)`` in its first ``2 N`` entries. ``slope`` (an array of
     ``nodes``, or None: compiled out) receives ``d effective_film / d xi`` at each node.
     """
@@ -201,6 +227,7 @@ def film_nodes(side, q, q_dot, ws, L, f, pad, slope):
             a, b = side * q_dot[n] * ws[N + n] / beta, side * q_dot[n] * ws[n] / beta
             for j in range(nodes):
                 ws[o_Q + j] -= a * pad.trig[VERS, n, j] + b * pad.trig[SIN, n, j]
+    _mean_gap_flow(side, q_dot, ws, f, pad, pad.S)
     I1 = 0.0
     I2 = 0.0
     I3 = 0.0

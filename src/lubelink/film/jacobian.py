@@ -10,11 +10,17 @@ gives::
     dg_j/dh_j = a_j = 6 mu V_r / h_j^3 - 3 g_j / h_j,     dC/dh_k = -w_k a_k / I2,
     dg_j/dQ_j = 12 mu / h_j^3,                           dC/dQ_k = -12 mu w_k / (h_k^3 I2),
 
-and with ``dh_j/dq_m = -side h'_j s_m(X_j)`` (``h'`` the slope of the thickness floor,
+and with ``dh_j/dq_m = -side h'_j s_m(X_j)`` (``h'`` the slope of the effective film,
 ``s_m(X) = sin(beta_m (x0 + X))``) and ``dQ_j/dq_dot_m = -side W_m(X_j)``::
 
     dg_j/dq_m     = -side [e_j s_m(X_j) - c_m / h_j^3],        e_j = a_j h'_j,  c_m = sum_k w_k e_k s_m(X_k) / I2,
     dg_j/dq_dot_m = -side 12 mu / h_j^3 [W_m(X_j) - d_m],      d_m = sum_k w_k W_m(X_k) / (h_k^3 I2).
+
+With rough surfaces the squeeze flow is that of the mean gap, ``Q_j = sum_k S_jk c_k xi_t,k``
+(``S`` the integration matrix on the nodes, ``c`` the contact factor): ``W_m(X_j)`` becomes
+``sum_k S_jk c_k s_m(X_k)``, and ``Q`` depends on ``q`` through ``c``, which adds
+``-side 12 mu / h_j^3 [P_m(X_j) - sum_k w_k P_m(X_k) / (h_k^3 I2)]`` to ``dg_j/dq_m``, with
+``P_m(X_j) = sum_k S_jk c'_k xi_t,k s_m(X_k)``.
 
 The modal force is linear in the ``g_j``, ``F_n = side B sum_j R_nj g_j`` (no cavitation:
 ``R_nj = w_j W_n(X_j)``, the integral by parts), except where half-Sommerfeld clips the pressure
@@ -29,8 +35,8 @@ import numpy as np
 
 from .._jit import jitable
 from .force import film_nodes
-from .reynolds import COS, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE_SQUEEZE, pad_start, pressure_gradient, \
-    reynolds_constant
+from .reynolds import COS, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE_SQUEEZE, mean_gap_curvature, \
+    mean_gap_slope, pad_start, pressure_gradient, reynolds_constant
 from .width import ONE_D
 from ..beam import wavenumber
 
@@ -82,6 +88,36 @@ def _clipped_weights(S, g, s_tab, f, pad, R):
 
 
 @jitable
+def _mean_gap_tables(side, q, q_dot, s_tab, f, S, Wq, P):
+    """Rough surfaces' squeeze flow ``Q_j = sum_k S_jk c_k xi_t,k`` (:func:`~lubelink.film.force._mean_gap_flow`):
+    ``dQ_j/dq_dot_m = -side Wq[m, j]`` and ``dQ_j/dq_m = -side P[m, j]`` into ``Wq``, ``P``; False (and
+    nothing written) for smooth surfaces or ``S`` None (compiled out)."""
+    if S is None or f.roughness <= 0.0:
+        return False
+    N, nodes = s_tab.shape
+    c = np.empty(nodes)
+    dc = np.empty(nodes)
+    for k in range(nodes):
+        xi = 0.5 * f.clearance
+        xi_t = 0.0
+        for n in range(N):
+            xi -= side * q[n] * s_tab[n, k]
+            xi_t -= side * q_dot[n] * s_tab[n, k]
+        c[k] = mean_gap_slope(xi, f.roughness)
+        dc[k] = mean_gap_curvature(xi, f.roughness) * xi_t
+    for m in range(N):
+        for j in range(nodes):
+            a = 0.0
+            b = 0.0
+            for k in range(nodes):
+                a += S[j, k] * c[k] * s_tab[m, k]
+                b += S[j, k] * dc[k] * s_tab[m, k]
+            Wq[m, j] = a
+            P[m, j] = b
+    return True
+
+
+@jitable
 def _film_side_jacobian(side, q, q_dot, ws, L, V_r, f, B, pad, Jq, Jv):
     """Add ``dF_n/dq_m`` [N/m] to ``Jq`` and ``dF_n/dq_dot_m`` [N s/m] to ``Jv`` for the film on ``side``."""
     N = q.shape[0]
@@ -111,26 +147,41 @@ def _film_side_jacobian(side, q, q_dot, ws, L, V_r, f, B, pad, Jq, Jv):
         for n in range(N):
             for j in range(nodes):
                 R[n, j] = pad.quad[1, j] * W_tab[n, j]
+    squeeze = f.model == WEDGE_SQUEEZE
+    Wq = W_tab  # dQ_j/dq_dot_m = -side Wq[m, j]; rough surfaces: also dQ_j/dq_m = -side P[m, j]
+    P = np.zeros((N, nodes))
+    rough = False
+    if squeeze:
+        Wq = np.empty((N, nodes))
+        rough = _mean_gap_tables(side, q, q_dot, s_tab, f, pad.S, Wq, P)
+        if not rough:
+            Wq[:, :] = W_tab
     c = np.zeros(N)
     d = np.zeros(N)
+    dp = np.zeros(N)
     for m in range(N):
         for k in range(nodes):
             c[m] += pad.quad[1, k] * e[k] * s_tab[m, k]
-            d[m] += pad.quad[1, k] * W_tab[m, k] * inv3[k]
+            d[m] += pad.quad[1, k] * Wq[m, k] * inv3[k]
+            dp[m] += pad.quad[1, k] * P[m, k] * inv3[k]
         c[m] /= I2
         d[m] /= I2
-    squeeze = f.model == WEDGE_SQUEEZE
+        dp[m] /= I2
     for n in range(N):
         for m in range(N):
             aq = 0.0
+            ap = 0.0
             av = 0.0
             for j in range(nodes):
                 aq += R[n, j] * (e[j] * s_tab[m, j] - c[m] * inv3[j])
                 if squeeze:
-                    av += R[n, j] * inv3[j] * (W_tab[m, j] - d[m])
+                    av += R[n, j] * inv3[j] * (Wq[m, j] - d[m])
+                    ap += R[n, j] * inv3[j] * (P[m, j] - dp[m])
             Jq[n, m] -= B * aq
             if squeeze:
                 Jv[n, m] -= 12.0 * mu * B * av
+                if rough:
+                    Jq[n, m] -= 12.0 * mu * B * ap
 
 
 @jitable

@@ -13,8 +13,8 @@ from .._jit import jitable, kernel
 from ..beam import add_deflection, wavenumber, wavenumbers
 from ..params import CHOICES
 from .force import _film_view, _tables, gauss_legendre, integration_matrix
-from .reynolds import (HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, effective_film, pad_start, pressure_gradient,
-                       reynolds_cavitation, reynolds_constant)
+from .reynolds import (HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE_SQUEEZE, effective_film, mean_gap_slope, pad_start,
+                       pressure_gradient, reynolds_cavitation, reynolds_constant)
 
 __all__ = ["pressure_on_breaks", "pad_pressure_many", "pressure", "pad_pressure", "pressure_points", "film_thickness",
            "mode_film", "mode_film_rate"]
@@ -101,14 +101,16 @@ def pad_pressure_many(X, q, q_dot, x_star, V_r, side, f, L, w, Sm, sin_p, cos_p,
             c0[m] = np.cos(wavenumber(m + 1, L) * x0)
         xi[:] = 0.5 * f.clearance
         add_deflection(q[i], s0, c0, sin_p, cos_p, -side, xi)
+        if squeeze and f.cavitation != REYNOLDS:  # the rate of the mean gap (rough surfaces: times the contact factor)
+            xi_t[:] = 0.0
+            add_deflection(q_dot[i], s0, c0, sin_p, cos_p, -side, xi_t)
+            for k in range(n_pts):
+                xi_t[k] *= mean_gap_slope(xi[k], f.roughness)
         for k in range(n_pts):
             xi[k] = effective_film(xi[k], f.thickness_floor, f.roughness)
         if f.cavitation == REYNOLDS:
             _reynolds_sample(X, xi, q_dot[i], s0, c0, V_r[i], side, f, sin_g, cos_g, out[i])
             continue
-        if squeeze:
-            xi_t[:] = 0.0
-            add_deflection(q_dot[i], s0, c0, sin_p, cos_p, -side, xi_t)
         pressure_on_breaks(X, xi.reshape((M, n)), xi_t.reshape((M, xi_t.shape[0] // M)), V_r[i], f.viscosity,
                            w, Sm, out[i], Q)
         if f.cavitation == HALF_SOMMERFELD:

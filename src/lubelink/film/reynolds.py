@@ -17,6 +17,7 @@ from ..params import CHOICES
 
 __all__ = ["pad_start", "reynolds_constant", "pressure_gradient", "reynolds_cavitation", "effective_film",
            "effective_film_slope", "mean_gap", "mean_gap_slope",
+           "mean_gap_curvature",
            "grid_modal_force"]
 
 NO_FILM, WEDGE, WEDGE_SQUEEZE = (CHOICES["film.model"].index(v) for v in ("none", "wedge", "wedge+squeeze"))
@@ -50,7 +51,8 @@ def mean_gap(xi, sigma):
     if sigma <= 0.0:
         return xi
     H = xi / sigma
-    return 0.5 * xi * (1.0 + math.erf(H / math.sqrt(2.0))) + sigma * math.exp(-0.5 * H * H) / math.sqrt(2.0 * math.pi)
+    # erfc(-z) = 1 + erf(z) without the cancellation that would leave h_T <= 0 deep in contact
+    return 0.5 * xi * math.erfc(-H / math.sqrt(2.0)) + sigma * math.exp(-0.5 * H * H) / math.sqrt(2.0 * math.pi)
 
 
 @jitable
@@ -58,7 +60,16 @@ def mean_gap_slope(xi, sigma):
     """``d mean_gap / d xi`` [-]: the share of the surface not in contact, ``(1 + erf(H/sqrt 2)) / 2``."""
     if sigma <= 0.0:
         return 1.0
-    return 0.5 * (1.0 + math.erf(xi / (sigma * math.sqrt(2.0))))
+    return 0.5 * math.erfc(-xi / (sigma * math.sqrt(2.0)))
+
+
+@jitable
+def mean_gap_curvature(xi, sigma):
+    """``d^2 mean_gap / d xi^2`` [1/m]: the normal density of the heights at ``-xi``, ``exp(-H^2/2) / (sigma sqrt(2 pi))``."""
+    if sigma <= 0.0:
+        return 0.0
+    H = xi / sigma
+    return math.exp(-0.5 * H * H) / (sigma * math.sqrt(2.0 * math.pi))
 
 
 @jitable
@@ -71,8 +82,8 @@ def effective_film(xi, floor, sigma):
     finite when a smooth film closes or a compliant contact penetrates (docs/breakdown.md). With
     roughness, ``h > 0.083 sigma`` while the asperities are pressed less than ``sigma`` into each
     other (``xi > -sigma``): a floor below ``0.04 sigma`` never acts there, and results stop
-    depending on it. ``floor = 0``: ``h`` unchanged. The squeeze source keeps the rate of the
-    nominal gap.
+    depending on it. ``floor = 0``: ``h`` unchanged. The squeeze source is the rate of the mean
+    gap, not of this film (:func:`mean_gap_slope` times the nominal rate; no floor in it).
     """
     h = mean_gap(xi, sigma)
     if h >= 2.0 * floor:
