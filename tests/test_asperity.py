@@ -154,8 +154,8 @@ def test_asperity_potential_is_the_integral_of_f52():
 
 #: A link at rest on a stationary collar (no rigid motion), pressed onto the collar's +j face by a uniform
 #: load (gravity of 10 g along +j) through a squeeze film of a light oil: the link falls 20 um, the film
-#: catches it within 4 ms (it bounces once, the thinnest film 3.3 um, the asperities touching), then
-#: squeezes out over 0.3 s while the asperities take over the load (film 48 -> 5.6 N, asperities
+#: catches it within 6 ms (it bounces once, the thinnest film 2.9 um, the asperities touching), then
+#: squeezes out over 0.3 s while the asperities take over the load (film 48 -> 5.5 N, asperities
 #: 0 -> 42 N at a thinnest film of 1.3 sigma). Two modes: the pad [0.45, 0.50] m is off mid-span.
 BALANCE = {"beam.modes": 2, "film.viscosity": 1e-4, "film.clearance": 40e-6, "film.sides": 1,
            "mechanism.gravity": [0.0, 98.1], "solver.method": "rodas", "solver.t_end": 0.3,
