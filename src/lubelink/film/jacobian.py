@@ -149,13 +149,13 @@ def _film_side_jacobian(side, q, q_dot, ws, L, V_r, f, B, pad, Jq, Jv):
                 R[n, j] = pad.quad[1, j] * W_tab[n, j]
     squeeze = f.model == WEDGE_SQUEEZE
     Wq = W_tab  # dQ_j/dq_dot_m = -side Wq[m, j]; rough surfaces: also dQ_j/dq_m = -side P[m, j]
-    P = np.zeros((N, nodes))
+    P = np.empty((N, nodes))
     rough = False
     if squeeze:
-        Wq = np.empty((N, nodes))
-        rough = _mean_gap_tables(side, q, q_dot, s_tab, f, pad.S, Wq, P)
-        if not rough:
-            Wq[:, :] = W_tab
+        W_rough = np.empty((N, nodes))
+        rough = _mean_gap_tables(side, q, q_dot, s_tab, f, pad.S, W_rough, P)
+        if rough:
+            Wq = W_rough
     c = np.zeros(N)
     d = np.zeros(N)
     dp = np.zeros(N)
@@ -163,7 +163,8 @@ def _film_side_jacobian(side, q, q_dot, ws, L, V_r, f, B, pad, Jq, Jv):
         for k in range(nodes):
             c[m] += pad.quad[1, k] * e[k] * s_tab[m, k]
             d[m] += pad.quad[1, k] * Wq[m, k] * inv3[k]
-            dp[m] += pad.quad[1, k] * P[m, k] * inv3[k]
+            if rough:
+                dp[m] += pad.quad[1, k] * P[m, k] * inv3[k]
         c[m] /= I2
         d[m] /= I2
         dp[m] /= I2
@@ -176,7 +177,8 @@ def _film_side_jacobian(side, q, q_dot, ws, L, V_r, f, B, pad, Jq, Jv):
                 aq += R[n, j] * (e[j] * s_tab[m, j] - c[m] * inv3[j])
                 if squeeze:
                     av += R[n, j] * inv3[j] * (Wq[m, j] - d[m])
-                    ap += R[n, j] * inv3[j] * (P[m, j] - dp[m])
+                    if rough:
+                        ap += R[n, j] * inv3[j] * (P[m, j] - dp[m])
             Jq[n, m] -= B * aq
             if squeeze:
                 Jv[n, m] -= 12.0 * mu * B * av
