@@ -167,7 +167,7 @@ def test_compliant_contact_jacobian_in_a_contact_phase(v_minus):
     cfg = resolve("lubricated", {"film.clearance": 1e-4, "beam.modes": 3, "contact.law": "compliant"})
     model = build_model(cfg)
     t = 0.37
-    x_star, V_r = model.kinematics(t)[3], model.kinematics(t)[4]
+    x_star, V_r = model.kinematics(t).x_star, model.kinematics(t).V_r
     L, l = cfg.mechanism.rod_length, cfg.film.pad_length
     x = np.linspace(x_star, x_star + l, 201)
     q = np.array([1.0, 0.02, -0.01])

@@ -150,7 +150,7 @@ def test_model_film_force_is_the_pressure_integral(sides):
     q_dot = np.array([2e-3, 1e-3, -5e-4])
     t = 0.3
     F, total = model.film_loads(t, np.concatenate([q, q_dot]))
-    x_star, V_r = model.kinematics(t)[3], model.kinematics(t)[4]
+    x_star, V_r = model.kinematics(t).x_star, model.kinematics(t).V_r
     L, B, fm = cfg.mechanism.rod_length, cfg.beam.width, cfg.film
     beta = np.arange(1, 4) * np.pi / L
     X, Z = np.linspace(0, fm.pad_length, 401), np.linspace(-B / 2, B / 2, 81)

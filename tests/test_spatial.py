@@ -150,30 +150,33 @@ def test_rssp_kinematics_against_finite_differences_of_positions():
     h = 1e-5
     spin, outof, tilt = [], [], []
     for t in (0.0, 0.0123, 0.071, 0.15):
-        A_O, w, al, v_O, x_star, V_r, O, e1, e2, e3 = _rssp(t)
+        k = _rssp(t)
+        A_O, w, al, v_O, x_star, V_r, O, e1, e2, e3 = k.A_O, k.omega, k.alpha, k.v_O, k.x_star, k.V_r, k.O, k.e1, \
+            k.e2, k.e3
         R = np.array([e1, e2, e3])  # rows: fixed -> link components
         assert np.allclose(R @ R.T, np.eye(3), atol=1e-14)
         pos = [_rssp(t + j * h) for j in (-2, -1, 1, 2)]
 
-        def d1(i):
-            return (pos[0][i] - 8 * pos[1][i] + 8 * pos[2][i] - pos[3][i]) / (12 * h)
+        def d1(name):
+            a, b, c, d = (np.asarray(getattr(k, name)) for k in pos)
+            return (a - 8 * b + 8 * c - d) / (12 * h)
 
-        O_t = d1(6)
-        O_tt = (pos[1][6] - 2 * O + pos[2][6]) / h**2
+        O_t = d1("O")
+        O_tt = (pos[1].O - 2 * O + pos[2].O) / h**2
         assert np.allclose(v_O, R @ O_t, rtol=1e-8, atol=1e-9)
         assert np.allclose(A_O, R @ O_tt, rtol=1e-5, atol=1e-4)
         # C = O + L e1 stays on the slider line and the link length is kept
         C = O + L * e1
         assert abs(C[1]) < 1e-14 and abs(C[2] - 0.05) < 1e-14
         # w from e_i_t = w x e_i, alpha from differences of w
-        e_t = [d1(7), d1(8), d1(9)]
+        e_t = [d1("e1"), d1("e2"), d1("e3")]
         w_fd = np.array([e_t[1] @ e3, e_t[2] @ e1, e_t[0] @ e2])
         assert np.allclose(w, w_fd, rtol=1e-8, atol=1e-8)
         for i in range(3):
             assert np.allclose(R.T @ np.cross(w, R @ e_t[i] * 0 + np.eye(3)[i]), e_t[i], atol=1e-7)
-        al_fd = d1(1)
+        al_fd = d1("omega")
         assert np.allclose(al, al_fd, rtol=1e-6, atol=1e-5)
-        assert V_r == pytest.approx(d1(4), rel=1e-8, abs=1e-10)
+        assert V_r == pytest.approx(d1("x_star"), rel=1e-8, abs=1e-10)
         # the collar point lies on the guide plane X = 0.4
         assert (O + x_star * e1)[0] == pytest.approx(0.4, abs=1e-14)
         spin.append(abs(w[0]))
@@ -187,7 +190,8 @@ def test_rssp_planar_case_is_the_paper_slider_crank():
     from lubelink.kinematics import slider_crank
 
     for t in (0.0123, 0.05, 0.13):
-        A_O, w, al, v_O, x_star, V_r, *_ = _rssp(t, axis=(0, 0, 1), P=(0, 0, 0))
+        k_ = _rssp(t, axis=(0, 0, 1), P=(0, 0, 0))
+        A_O, w, al, v_O, x_star, V_r = k_.A_O, k_.omega, k_.alpha, k_.v_O, k_.x_star, k_.V_r
         k = slider_crank(t, 0.07, L, 10 * np.pi, 0.4)
         assert A_O[1] == pytest.approx(k["A_O2"], rel=1e-12)
         assert w[2] == pytest.approx(k["omega"], rel=1e-12) and al[2] == pytest.approx(k["alpha"], rel=1e-10)

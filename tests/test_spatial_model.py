@@ -164,7 +164,7 @@ def test_spatial_motion_of_the_planar_geometry_is_the_planar_slider_crank():
     cfg = resolve("paper", {"beam.model": "spatial"})
     m = geometry(cfg.mechanism)
     for t in np.linspace(0.0, 0.2, 7):
-        A_O, w, al, v_O, x_star, V_r = spatial_motion_at(t, m)[:6]
+        A_O, w, al, x_star, V_r = spatial_motion_at(t, m)[:5]
         k = slider_crank(t, 0.07, 1.0, 10 * np.pi, 0.4)
         np.testing.assert_allclose([A_O[1], w[2], al[2], x_star, V_r],
                                    [k["A_O2"], k["omega"], k["alpha"], k["x_star"], k["V_r"]], rtol=1e-12, atol=1e-12)
@@ -267,7 +267,7 @@ def test_the_u3_pair_is_the_u2_film_on_the_q3_block(over):
 def _thinnest_by_sampling(model, t, y, k, points=20001):
     """Thinnest film [m] of the pair on block ``k`` by brute force: ``H/2 -+ u`` on a fine grid of the pad."""
     f, N, L = model.config.film, model.modes, model.config.mechanism.rod_length
-    x0 = model.motion.at(t)[4] - (0.5 * f.pad_length if f.pad_reference == "centre" else 0.0)
+    x0 = model.motion.at(t).x_star - (0.5 * f.pad_length if f.pad_reference == "centre" else 0.0)
     X = x0 + np.linspace(0.0, f.pad_length, points)
     u = np.sin(np.outer(X, np.arange(1, N + 1) * np.pi / L)) @ y[k * N:(k + 1) * N]
     return 0.5 * f.clearance - (np.max(np.abs(u)) if f.sides == 2 else np.max(u))
@@ -323,6 +323,8 @@ def test_a_one_sided_u3_pair_drives_u3_as_the_planar_film_drives_u2():
     (0.93 mm at its thinnest) changes the deflection by 3.6 % of the dry link's."""
     from scipy.integrate import solve_ivp
 
+    from lubelink.kinematics import RigidMotion
+    from lubelink.spatial import SpatialRigidMotion
     from lubelink.spatial_model import spatial_rhs_given
 
     N = 2
@@ -335,7 +337,8 @@ def test_a_one_sided_u3_pair_drives_u3_as_the_planar_film_drives_u2():
 
     def f_sp(t, y):
         A = -a * (1.0 - np.cos(Om * t))
-        kin = ((0.0, A, A), zero, zero, zero, x0 + d * np.sin(Om * t), d * Om * np.cos(Om * t), zero, *e)
+        kin = SpatialRigidMotion((0.0, A, A), zero, zero, x0 + d * np.sin(Om * t), d * Om * np.cos(Om * t), *e,
+                                 zero, zero)
         out = np.empty(6 * N)
         spatial_rhs_given(kin, y, out, sp.params)
         return out
@@ -343,8 +346,8 @@ def test_a_one_sided_u3_pair_drives_u3_as_the_planar_film_drives_u2():
     def planar(model):
         def f(t, y):
             out = np.empty(2 * N)
-            rhs_given(t, (-a * (1.0 - np.cos(Om * t)), 0.0, 0.0, x0 + d * np.sin(Om * t), d * Om * np.cos(Om * t), 0.0, 0.0,
-                          np.nan), y, out, model.params)
+            rhs_given(t, RigidMotion(-a * (1.0 - np.cos(Om * t)), 0.0, 0.0, x0 + d * np.sin(Om * t),
+                                     d * Om * np.cos(Om * t)), y, out, model.params)
             return out
         return f
 
@@ -430,7 +433,7 @@ def test_the_spatial_collar_acceleration_is_the_derivative_of_its_velocity():
     from lubelink.spatial_motion import collar_acceleration_at
 
     m = geometry(resolve("spatial-slider-crank").mechanism)
-    V = lambda t: spatial_motion_at(t, m)[5]  # noqa: E731
+    V = lambda t: spatial_motion_at(t, m).V_r  # noqa: E731
     for t in np.linspace(0.0, 0.2, 9):
         d = lambda h: (V(t + h) - V(t - h)) / (2 * h)  # noqa: E731
         fd = (4 * d(1e-4) - d(2e-4)) / 3
@@ -456,7 +459,7 @@ def test_a_sustained_contact_acts_on_its_faces_block_by_baumgartes_law(code):
     for _ in range(5):
         t = rng.uniform(0.0, 0.5)
         y = _random_state(rng, N, model.omega_n[0])
-        x_c = model.motion.at(t)[4] + rng.uniform(0.0, 0.05)
+        x_c = model.motion.at(t).x_star + rng.uniform(0.0, 0.05)
         free, held = model.rhs(t, y), model.rhs(t, y, (code, 0.0, x_c))
         other = [j for j in range(3) if j != k]
         for j in other:
@@ -490,7 +493,7 @@ def test_a_compliant_contact_acts_on_its_faces_block(code):
     rng = np.random.default_rng(4)
     t = 0.1
     y = _random_state(rng, N, model.omega_n[0], amplitude=1e-6)
-    x_c = model.motion.at(t)[4] + 0.025
+    x_c = model.motion.at(t).x_star + 0.025
     y[k * N] += side * 1e-4 / np.sin(np.pi * x_c)  # the film at the pad centre closes, 5 um below min_film
     free, pushed = model.rhs(t, y), model.rhs(t, y, (code, 0.2))
     F, magnitude = model.contact_force(t, y, (code, 0.2))

@@ -134,7 +134,7 @@ def jitable(func=None, *, inline=False):
     (``model.phase_side``, ``section.uniform``). Inlining costs compile time, paid on a first run:
     the whole film force inlined into the right-hand side made the cold ``lubelink run`` compile
     2.6x longer for 15-25 % of the ``paper`` run's speed, so only the dispatchers are inlined
-    (``model.rhs_given``, ``model.event_with``, ``model.gap_given``, ``model.thinnest_given``,
+    (``model.rhs_given``, ``model.event_with``, ``model.gap_given``, ``faces.thinnest_on``,
     ``film.modal_film_force``, the DOP853 stage), not the film's equations.
     """
     if func is None:

@@ -20,9 +20,9 @@ from . import _jit, beam, compliant, contact, film, section
 from .errors import BackendError
 from .film.jacobian import has_film_jacobian
 from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
-from .model import (NO_PHASE, Basis, ContactPhase, Params, compliant_many, contact_point, contact_position,
-                    event_with, gap, in_sustained, rhs, rhs_with, sustained_force_many, sustained_given,
-                    thinnest_given)
+from .faces import NO_PHASE, ContactPhase, contact_point, contact_position, in_sustained
+from .model import (Basis, Params, compliant_many, event_with, gap, rhs, rhs_with, sustained_force_many,
+                    sustained_given, thinnest_given)
 from .params import Config
 from .views import kernel_view
 
@@ -142,6 +142,11 @@ class Model:
         """The natural frequencies of the integrator's state [rad/s] (the exponential method's ``omega``)."""
         return self.params.basis.omega_n
 
+    def face_block(self, y, side):
+        """``(states [q, q_dot], side)`` of the pair of faces a contact of ``side`` touches, its side +-1 on them:
+        ``y`` itself, the link having one pair."""
+        return np.asarray(y, dtype=float), side
+
     def planar_state(self, y):
         """The in-plane states ``[q, q_dot]`` of states ``y`` (``y`` itself; the spatial model's ``q2`` block)."""
         return y
@@ -192,7 +197,7 @@ class Model:
     def gravity_j(self, t):
         """Gravity along the link's ``j`` axis at ``t`` [m/s^2]."""
         gX, gY = self.config.mechanism.gravity
-        angle = self.kinematics(t)[6]
+        angle = self.kinematics(t).angle
         return -gX * np.sin(angle) + gY * np.cos(angle)
 
     def kinematics(self, t):
@@ -249,14 +254,14 @@ class Model:
 
     def thinnest_film(self, t, y):
         """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides."""
-        xi, x_c, edge, side = thinnest_given(self.kinematics(t)[3], np.ascontiguousarray(y, dtype=float),
+        xi, x_c, edge, side = thinnest_given(self.kinematics(t).x_star, np.ascontiguousarray(y, dtype=float),
                                              self.params)
         return float(xi), float(x_c), bool(edge), int(side)
 
     def contact_point(self, t, y):
         """:attr:`ContactPhase.point` of the thinnest film at ``(t, y)``."""
         _, x_c, edge, _ = self.thinnest_film(t, y)
-        x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
+        x0 = film.pad_start(self.kinematics(t).x_star, self.config.film.pad_length, self.params.film.pad_reference)
         return contact_point(x_c, edge, x0, self.config.film.pad_length)
 
     def approach(self, t, y):
@@ -264,7 +269,7 @@ class Model:
         N = self.modes
         kin = self.kinematics(t)
         _, x_c, edge, side = self.thinnest_film(t, y)
-        v = side * contact.approach_velocity(y[:N], y[N:], x_c, kin[4] if edge else 0.0,
+        v = side * contact.approach_velocity(y[:N], y[N:], x_c, kin.V_r if edge else 0.0,
                                              self.config.mechanism.rod_length)
         return float(v), x_c, side
 
@@ -315,12 +320,12 @@ class Model:
         force, power = np.zeros(t.size), np.zeros(t.size)
         for i in np.flatnonzero(side):
             F, force[i] = self.contact_force(t[i], y[i], (side[i], v_minus[i]))
-            power[i] = float(np.dot(y[i, self.modes:2 * self.modes], F)) if self.params.spatial is None else np.nan
+            power[i] = float(np.dot(self.face_block(y[i], side[i])[0][self.modes:], F))
         return force, power
 
     def contact_position(self, t, phase):
         """Where on the link [m] the contact of ``phase`` ``(side, v_minus, point)`` acts at ``t``."""
-        x0 = film.pad_start(self.kinematics(t)[3], self.config.film.pad_length, self.params.film.pad_reference)
+        x0 = film.pad_start(self.kinematics(t).x_star, self.config.film.pad_length, self.params.film.pad_reference)
         return float(contact_position(phase[2], x0, self.config.film.pad_length))
 
     def sustained_loads(self, t, y, side, point):
@@ -329,7 +334,7 @@ class Model:
         force = float(self.sustained_force(t, y, side, point)[0])
         x_c = self.contact_position(t, (side, 0.0, point))
         L = self.config.mechanism.rod_length
-        return -side * force * np.sin(beam.wavenumbers(self.modes, L) * x_c)
+        return -self.face_block(y, side)[1] * force * np.sin(beam.wavenumbers(self.modes, L) * x_c)
 
     def film_loads(self, t, y):
         """Modal film forces [N] and the resultant film force along +j [N]."""
@@ -338,7 +343,7 @@ class Model:
         F = np.zeros(N)
         y = np.ascontiguousarray(y, dtype=float)
         p = self.params
-        total = film.modal_film_force(y[:N], y[N:], kin[3], kin[4], p.film, p.beam.width, p.pad, p.basis.rod_length, F)
+        total = film.modal_film_force(y[:N], y[N:], kin.x_star, kin.V_r, p.film, p.beam.width, p.pad, p.basis.rod_length, F)
         return F, float(total)
 
     def contact_force(self, t, y, phase, width=None):
@@ -348,9 +353,9 @@ class Model:
         kin = self.kinematics(t)
         F = np.zeros(N)
         p = self.params
-        x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
+        x0 = film.pad_start(kin.x_star, p.film.pad_length, p.film.pad_reference)
         y = np.ascontiguousarray(y, dtype=float)
-        force = compliant.compliant_force(y[:N], y[N:], x0, kin[4], p.film, p.contact, p.pad,
+        force = compliant.compliant_force(y[:N], y[N:], x0, kin.V_r, p.film, p.contact, p.pad,
                                           p.basis.rod_length, float(phase[0]), float(phase[1]),
                                           p.beam.width if width is None else width, F)
         return F, float(force)

@@ -21,6 +21,7 @@ section 5, docs/breakdown.md).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -36,6 +37,7 @@ __all__ = [
     "gap_rate",
     "gap_rate_bound",
     "restitution_jump",
+    "Impact",
     "impact_energy_loss",
     "impact_energy_change",
     "constraint_force",
@@ -341,6 +343,25 @@ def penetration(t, film_min, side, min_film) -> str:
             "contact.law = 'compliant' follows the thinnest point")
 
 
+class Impact(NamedTuple):
+    """The record of an impact (or of a compliant contact, from its start to its end).
+
+    ``t`` [s], the contact point ``x_c`` [m], the approach velocities before and after ``v_minus``,
+    ``v_plus`` [m/s] (the compliant law: at the start and at the end), the ``side`` (a code of
+    :func:`lubelink.spatial_model.face_of` for the spatial model), and the link's whole sine-mode
+    states ``y_before``, ``y_after`` [m, m/s] (the compliant law: at the start and at the end; None
+    while it lasts).
+    """
+
+    t: float
+    x_c: float
+    v_minus: float
+    v_plus: float
+    side: float
+    y_before: np.ndarray
+    y_after: np.ndarray | None
+
+
 @dataclass
 class ContactLogic:
     """What happens at a zero of the event: the contact law's response, and the record of impacts.
@@ -351,7 +372,8 @@ class ContactLogic:
     the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``, ``"penetration"``).
     ``contacts`` lists ``[t_start, t_end, side]`` of every contact phase (``t_end`` NaN while it lasts).
     A side is +1 or -1, or for the spatial model a code of :func:`lubelink.spatial_model.face_of`
-    (+-2: the faces normal to ``e3``); the recorded modal states are the in-plane block.
+    (+-2: the faces normal to ``e3``). ``impacts`` holds an :class:`Impact` per impact (and per
+    compliant contact).
 
     Restitution law: two impacts closer than ``contact.chatter_interval`` are a Zeno sequence;
     the impact is then made plastic (``e = 0``, the gap's rate set to zero) and, if the contact
@@ -373,8 +395,6 @@ class ContactLogic:
     def on_event(self, t_before, y_before, t_after, y_after, phase):
         model = self.model
         ct = model.config.contact
-        N = model.modes
-        planar = model.planar_state  # the records hold the in-plane modes (the spatial model's q2 block)
         if ct.law == "none":
             where = " on the u3 faces" if abs(model.approach(t_after, y_after)[2]) == 2 else ""  # spatial: +-2
             return ("film_breakdown",
@@ -384,12 +404,10 @@ class ContactLogic:
         if ct.law == "compliant":
             v, x_c, side = model.approach(t_after, y_after)
             if phase is None:  # the film closes: contact from the first state below min_film
-                self.impacts.append([t_after, x_c, v, np.nan, side, planar(y_after)[:N].copy(),
-                                     planar(y_after)[N:].copy(), None])
+                self.impacts.append(Impact(t_after, x_c, v, np.nan, side, np.array(y_after), None))
                 self.contacts.append([t_after, np.nan, side])
                 return None, "", t_after, y_after, (side, v)
-            self.impacts[-1][3] = v  # the film reopens
-            self.impacts[-1][7] = planar(y_after)[N:].copy()
+            self.impacts[-1] = self.impacts[-1]._replace(v_plus=v, y_after=np.array(y_after))  # the film reopens
             self.contacts[-1][1] = t_after
             return None, "", t_after, y_after, None
         if phase is not None:  # a sustained contact ends: its force fell to zero, or a second point reached the face
@@ -407,8 +425,7 @@ class ContactLogic:
         y_plus, x_c, v_minus, side = model.impact(t_before, y_before)
         v_plus = -ct.restitution * v_minus if v_minus > 0 else v_minus
         previous = self.impacts[-1][0] if self.impacts else -np.inf
-        self.impacts.append([t_before, x_c, v_minus, v_plus, side, planar(y_before)[:N].copy(),
-                             planar(y_before)[N:].copy(), planar(y_plus)[N:].copy()])
+        self.impacts.append(Impact(t_before, x_c, v_minus, v_plus, side, np.array(y_before), np.array(y_plus)))
         if len(self.impacts) > self.max_impacts:
             return ("chatter",
                     f"more than {self.max_impacts} impacts by t = {t_before:.12g} s, the last two "
@@ -432,8 +449,7 @@ class ContactLogic:
             y_rest = model.impact(t_before, y_before, restitution=0.0)[0]
             point = model.contact_point(t_before, y_before)
             if model.sustained_force(t_before, y_rest, side, point)[0] > 0.0:
-                self.impacts[-1][3] = min(v_minus, 0.0)
-                self.impacts[-1][7] = planar(y_rest)[N:].copy()
+                self.impacts[-1] = self.impacts[-1]._replace(v_plus=min(v_minus, 0.0), y_after=np.array(y_rest))
                 self.contacts.append([t_before, np.nan, side])
                 return None, "", t_before, y_rest, (side, 0.0, point)
         return None, "", t_before, y_plus, None

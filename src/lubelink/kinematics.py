@@ -48,7 +48,10 @@ CHANNELS = ("A_O2", "omega", "alpha", "x_star", "V_r", "reaction", "angle")
 
 
 class RigidMotion(NamedTuple):
-    """Rigid motion of the link at one or more times.
+    """Rigid motion of the link at one or more times (floats at one time: :func:`motion_at`).
+
+    The spatial link's :class:`~lubelink.spatial.SpatialRigidMotion` has the same layout: ``omega``,
+    ``alpha``, ``x_star``, ``V_r`` at positions 1-4, so that what reads the collar reads both.
 
     Attributes
     ----------
@@ -62,6 +65,13 @@ class RigidMotion(NamedTuple):
         Collar position along the link, from O [m].
     V_r : float or ndarray
         Collar velocity relative to the link, along +i [m/s].
+    reaction : float or ndarray
+        Force of the collar on the link along +j [N] (D7: ``-m_c Y_ddot / cos(theta)`` for the
+        slider-crank; 0 without a collar mass).
+    angle : float or ndarray
+        Angle of the link axis ``i`` about +k from +X [rad] (gravity's direction in the link frame).
+    v_O1 : float or ndarray
+        Axial velocity of O [m/s] (NaN for a sampled motion; read by the printed equations only).
     """
 
     A_O2: np.ndarray
@@ -69,6 +79,9 @@ class RigidMotion(NamedTuple):
     alpha: np.ndarray
     x_star: np.ndarray
     V_r: np.ndarray
+    reaction: np.ndarray = 0.0
+    angle: np.ndarray = 0.0
+    v_O1: np.ndarray = np.nan
 
 
 class MotionTable(NamedTuple):
@@ -184,12 +197,8 @@ def motion_at(t, m):
 
     Returns
     -------
-    tuple of float
-        ``(A_O2 [m/s^2], omega [rad/s], alpha [rad/s^2], x_star [m], V_r [m/s],
-        reaction [N], angle [rad], v_O1 [m/s])``: ``reaction`` is the force of the collar on the
-        link along +j (D7: ``-m_c Y_ddot / cos(theta)`` for the slider-crank), ``angle`` that of
-        the link axis ``i`` about +k from +X (gravity), ``v_O1`` the axial velocity of O (NaN for
-        a sampled motion).
+    RigidMotion
+        Of floats.
     """
     return _motion(t, m, m.knots, m.coef)
 
@@ -201,11 +210,11 @@ def _motion(t, m, knots, coef):
         theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
             t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
         reaction = -m.collar_mass * Y_ddot / c_th
-        return A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1
-    return (piecewise_cubic(t, knots, coef, 0), piecewise_cubic(t, knots, coef, 1),
-            piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
-            piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
-            piecewise_cubic(t, knots, coef, 6), np.nan)
+        return RigidMotion(A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1)
+    return RigidMotion(piecewise_cubic(t, knots, coef, 0), piecewise_cubic(t, knots, coef, 1),
+                       piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
+                       piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
+                       piecewise_cubic(t, knots, coef, 6), np.nan)
 
 
 @kernel
@@ -215,8 +224,8 @@ def collar_many(t, m):
     V_r = np.empty(t.shape[0])
     for i in range(t.shape[0]):
         k = motion_at(t[i], m)
-        x_star[i] = k[3]
-        V_r[i] = k[4]
+        x_star[i] = k.x_star
+        V_r[i] = k.V_r
     return x_star, V_r
 
 
@@ -256,7 +265,8 @@ class SliderCrank:
 
     def __call__(self, t) -> RigidMotion:
         k = self._kin(t)
-        return RigidMotion(k["A_O2"], k["omega"], k["alpha"], k["x_star"], k["V_r"])
+        return RigidMotion(k["A_O2"], k["omega"], k["alpha"], k["x_star"], k["V_r"], 0.0 * k["x_star"], -k["theta"],
+                           k["v_O1"])
 
     def table(self, collar_mass=0.0) -> MotionTable:
         """The :class:`MotionTable` of this motion for the compiled code."""
@@ -323,7 +333,8 @@ class PrescribedMotion:
         return self._value(self.angle, t)
 
     def __call__(self, t) -> RigidMotion:
-        return RigidMotion(*(self._value(f, t) for f in (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r)))
+        fields = (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r, self.reaction, self.angle)
+        return RigidMotion(*(self._value(f, t) for f in fields), np.nan + 0.0 * self._value(None, t))
 
     def joint_reaction(self, t, mass):
         return self._value(self.reaction, t)
@@ -333,10 +344,10 @@ class PrescribedMotion:
         return (float(self._value(self.V_r, t + h)) - float(self._value(self.V_r, t - h))) / (2.0 * h)
 
     def kinematics(self, t):
-        """The tuple of :func:`motion_at` at one time ``t`` [s], from the callables."""
+        """The :class:`RigidMotion` of :func:`motion_at` at one time ``t`` [s], from the callables."""
         k = self(t)
-        return (float(k.A_O2), float(k.omega), float(k.alpha), float(k.x_star), float(k.V_r),
-                float(self._value(self.reaction, t)), float(self._value(self.angle, t)), np.nan)
+        return RigidMotion(float(k.A_O2), float(k.omega), float(k.alpha), float(k.x_star), float(k.V_r),
+                           float(self._value(self.reaction, t)), float(self._value(self.angle, t)), np.nan)
 
 
 @dataclass(frozen=True, eq=False)

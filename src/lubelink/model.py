@@ -24,13 +24,13 @@ from typing import NamedTuple
 import numpy as np
 
 from . import beam, compliant, contact, film, section
-from .film import asperity
-from .film import jacobian as film_jacobian
 from ._jit import jitable, kernel
 from .errors import BackendError
+from .faces import (ContactPhase, compliant_jacobian_on, compliant_on, face_jacobian, face_loads, in_sustained,
+                    phase_side, sustained_on, thinnest_on)
 from .kinematics import MotionTable, collar_acceleration, motion_at
 from .params import CHOICES
-from .beam import deflection_at, wavenumber
+from .beam import wavenumber
 
 __all__ = ["Params", "Basis", "ContactPhase", "rhs", "gap", "rhs_given", "BackendError"]
 
@@ -45,23 +45,6 @@ class Basis(NamedTuple):
     rod_length: float
     omega_n: np.ndarray
     modal_mass: float
-
-
-class ContactPhase(NamedTuple):
-    """A contact in progress: ``side`` (+1, -1; 0 for none), its approach velocity [m/s] and point.
-
-    Under ``contact.law = "compliant"`` the compliant force acts; under ``"restitution"`` the link
-    rides on the collar (sustained contact, :func:`lubelink.contact.constraint_force`) at
-    ``point``: the material point of the link [m] where the contact began inside the pad, or
-    :data:`PAD_START` / :data:`PAD_END` for a pad edge (which slides with the collar).
-    """
-
-    side: float
-    v_minus: float
-    point: float = 0.0
-
-
-Phase = ContactPhase
 
 
 class Params(NamedTuple):
@@ -87,75 +70,14 @@ class Params(NamedTuple):
     motion: MotionTable
     phase: ContactPhase | None
     galerkin: section.GalerkinTable | None = None
-    spatial: spatial_model.SpatialTable | None = None  # the spatial model's table (lubelink.spatial_model)
+    spatial: tuple | None = None  # lubelink.spatial_model.SpatialTable
     rough: float | None = None  # film.roughness [m] with the asperity contact, None: smooth (compiled out)
-
-
-NO_PHASE = ContactPhase(0.0, 0.0, 0.0)
-#: :attr:`ContactPhase.point` of a sustained contact at the start and at the end of the pad.
-PAD_START, PAD_END = -1.0, -2.0
-
-
-def contact_point(x_c, at_edge, x0, pad_length):
-    """:attr:`ContactPhase.point` of a contact at ``x_c`` [m] (``at_edge``: a pad edge; pad from ``x0``)."""
-    if not at_edge:
-        return float(x_c)
-    return PAD_START if abs(x_c - x0) <= abs(x_c - x0 - pad_length) else PAD_END
-
-
-@jitable
-def contact_position(point, x0, pad_length):
-    """Where on the link [m] the contact of :attr:`ContactPhase.point` ``point`` acts, the pad starting at ``x0`` [m]."""
-    if point == PAD_START:
-        return x0
-    if point == PAD_END:
-        return x0 + pad_length
-    return point
-
-
-# --- the right-hand side ----------------------------------------------------------------------------
-@jitable
-def phase_side(phase):
-    """The side of the contact phase ``phase`` (0: none; ``phase`` None: a law without phases)."""
-    if phase is None:
-        return 0.0
-    return phase.side
-
-
-@jitable
-def _compliant_term(phase, q, q_dot, x_star, V_r, p, width, F):
-    """Add the compliant contact force of ``phase`` on a face of ``width`` [m] (None: no compliant law, compiles
-    to nothing)."""
-    if phase is None:
-        return
-    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-    compliant.compliant_force(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
-                              phase.v_minus, width, F)
-
-
-@jitable
-def asperity_term(rough, q, x_star, p, width, F):
-    """Add the asperity contact's modal forces on a pad of ``width`` [m] to ``F`` (``rough`` None: smooth
-    surfaces, compiles to nothing)."""
-    if rough is None:
-        return
-    asperity.modal_asperity_force(q, x_star, p.film, width, p.pad, p.basis.rod_length, F)
-
-
-@jitable
-def _compliant_jacobian_term(phase, q, q_dot, x_star, V_r, p, Jq, Jv):
-    """Add the compliant contact's Jacobian of ``phase`` (None: no compliant law, compiles to nothing)."""
-    if phase is None:
-        return
-    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-    compliant.compliant_jacobian(q, q_dot, x0, V_r, p.film, p.contact, p.pad, p.basis.rod_length, phase.side,
-                               phase.v_minus, Jq, Jv)
 
 
 @jitable(inline=True)
 def rhs_given(t, kin, y, out, p):
-    """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (the tuple of :func:`~lubelink.kinematics.motion_at`)."""
-    _, omega, alpha, x_star, V_r, reaction, _, _ = kin
+    """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (:class:`~lubelink.kinematics.RigidMotion`)."""
+    omega, alpha, x_star, V_r, reaction = kin.omega, kin.alpha, kin.x_star, kin.V_r, kin.reaction
     N = p.basis.modes
     L = p.basis.rod_length
     yq = section.physical(p.galerkin, y)  # the sine-mode state (y itself for a uniform link)
@@ -163,18 +85,13 @@ def rhs_given(t, kin, y, out, p):
     q_dot = yq[N:]
     F = out[N:]  # modal forces [N], accumulated here before the accelerations replace them
     F[:] = 0.0
-    if p.film.model != film.NO_FILM:
-        film.modal_film_force(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, F)
-        if p.model.equations == PRINTED_FILM_SIGN:
-            F *= -1.0
-    if p.film.roughness > 0.0:
-        asperity_term(p.rough, q, x_star, p, p.beam.width, F)
+    face_loads(q, q_dot, x_star, V_r, p, p.beam.width, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, wavenumber(n + 1, L))
     if contact.is_compliant(p.contact.law) and phase_side(p.phase) != 0.0:
-        _compliant_term(p.phase, q, q_dot, x_star, V_r, p, p.beam.width, F)
-    A_eff = effective_acceleration(kin[0], omega, kin[6], kin[7], p.mechanism.gravity, p.model.equations)
+        compliant_on(p.phase, q, q_dot, x_star, V_r, p, p.beam.width, F)
+    A_eff = effective_acceleration(kin.A_O2, omega, kin.angle, kin.v_O1, p.mechanism.gravity, p.model.equations)
     stiffening = stiffened(p.model.equations)
     zeta = p.beam.damping_ratio
     if not section.uniform(p.galerkin):
@@ -221,12 +138,6 @@ def _eigen_accelerations(g, y, F, A_eff, alpha, omega, basis, zeta, stiffening, 
 
 
 @jitable
-def in_sustained(phase, law):
-    """Whether the segment is a sustained contact (restitution law, a phase with a side)."""
-    return law == contact.RESTITUTION and phase_side(phase) != 0.0
-
-
-@jitable
 def sustained_given(t, kin, A_r, y, out, p, side, point):
     """Apply the sustained contact on ``side`` at ``point`` to ``out`` (``dy/dt`` without it); return its force [N].
 
@@ -237,30 +148,7 @@ def sustained_given(t, kin, A_r, y, out, p, side, point):
     N = p.basis.modes
     if A_r != A_r:
         A_r = collar_acceleration(t, p.motion)
-    return sustained_on(y[:N], y[N:], out[N:], kin[3], kin[4], A_r, p, side, point, p.basis.omega_n[N - 1])
-
-
-@jitable
-def sustained_on(q, q_dot, acc, x_star, V_r, A_r, p, side, point, rate):
-    """Subtract the sustained contact's modal force from the accelerations ``acc`` [m/s^2]; return its force [N].
-
-    :func:`lubelink.contact.constraint_force` of the film ``H/2 - side u`` of the sine modes
-    ``q`` [m], ``q_dot`` [m/s] at ``point`` (:class:`ContactPhase`), the collar at ``x_star`` [m]
-    sliding at ``V_r`` [m/s] with acceleration ``A_r`` [m/s^2], Baumgarte rate ``rate`` [1/s]:
-    the planar model's block (:func:`sustained_given`), or a block of the spatial state.
-    """
-    N = q.shape[0]
-    L = p.basis.rod_length
-    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-    at_edge = point < 0.0
-    x_c = contact_position(point, x0, p.film.pad_length)
-    xi = 0.5 * p.film.clearance - side * deflection_at(q, x_c, L)
-    m = p.basis.modal_mass
-    lam = contact.constraint_force(q, q_dot, acc, x_c, at_edge, False, side, xi - p.contact.min_film, V_r, A_r,
-                                   rate, m, L)
-    for n in range(N):
-        acc[n] -= side * lam * np.sin(wavenumber(n + 1, L) * x_c) / m
-    return lam
+    return sustained_on(y[:N], y[N:], out[N:], kin.x_star, kin.V_r, A_r, p, side, point, p.basis.omega_n[N - 1])
 
 
 @jitable
@@ -288,7 +176,7 @@ def _sustained_event(phase, t, kin, A_r, y, p):
     out = np.empty(y.shape[0])
     rhs_called(t, kin, y, out, p)
     force = sustained_given(t, kin, A_r, y, out, p, phase.side, phase.point)
-    below = thinnest_given(kin[3], y, p)[0] - (1.0 - contact.PENETRATION) * p.contact.min_film
+    below = thinnest_given(kin.x_star, y, p)[0] - (1.0 - contact.PENETRATION) * p.contact.min_film
     if below > 0.0:
         return force
     w = p.basis.omega_n[p.basis.modes - 1]
@@ -319,28 +207,20 @@ def jacobian_given(t, kin, y, J, p):
     The uniform planar link (no eigenbasis) outside a sustained contact, with the film of
     :func:`~lubelink.film.jacobian.has_film_jacobian`: ``dq/dt = q_dot`` gives the identity block;
     the modal oscillators ``-(omega_n^2 - omega^2)`` and ``-2 zeta omega_n`` on the diagonals;
-    the film (:func:`~lubelink.film.jacobian.modal_film_jacobian`) and the asperity contact
-    (:func:`~lubelink.film.asperity.modal_asperity_jacobian`) and the compliant contact of a contact
-    phase (:func:`~lubelink.compliant.compliant_jacobian`) divided by the modal mass. The joint
+    the film and the asperity contact (:func:`~lubelink.faces.face_jacobian`) and the compliant contact
+    of a contact phase (:func:`~lubelink.faces.compliant_jacobian_on`) divided by the modal mass. The joint
     reaction, gravity and the rigid-motion load do not depend on the state.
     """
-    omega, x_star, V_r = kin[1], kin[3], kin[4]
+    omega, x_star, V_r = kin.omega, kin.x_star, kin.V_r
     N = p.basis.modes
-    L = p.basis.rod_length
     q = y[:N]
     q_dot = y[N:]
     J[:, :] = 0.0
     Jq = J[N:, :N]
     Jv = J[N:, N:]
-    if p.film.model != film.NO_FILM:
-        film_jacobian.modal_film_jacobian(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, Jq, Jv)
-        if p.model.equations == PRINTED_FILM_SIGN:
-            Jq *= -1.0
-            Jv *= -1.0
-    if p.film.roughness > 0.0 and p.rough is not None:
-        asperity.modal_asperity_jacobian(q, x_star, p.film, p.beam.width, p.pad, L, Jq)
+    face_jacobian(q, q_dot, x_star, V_r, p, p.beam.width, Jq, Jv)
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
-        _compliant_jacobian_term(p.phase, q, q_dot, x_star, V_r, p, Jq, Jv)
+        compliant_jacobian_on(p.phase, q, q_dot, x_star, V_r, p, Jq, Jv)
     Jq /= p.basis.modal_mass
     Jv /= p.basis.modal_mass
     stiffening = stiffened(p.model.equations)
@@ -373,8 +253,7 @@ def rhs(t, y, out, p):
 @jitable(inline=True)
 def thinnest_given(x_star, y, p):
     """``(xi_min, x_c, at_edge, side)``: the thinnest film over the pad and the sides (``y``: sine-mode state)."""
-    x0 = film.pad_start(x_star, p.film.pad_length, p.film.pad_reference)
-    return contact.thinnest_film_sides(y[:p.basis.modes], x0, p.film, p.pad, p.basis.rod_length, 0.0)
+    return thinnest_on(x_star, y, p)
 
 
 @jitable(inline=True)
@@ -384,9 +263,9 @@ def gap_given(t, kin, y, p):
     L = p.basis.rod_length
     yq = section.physical(p.galerkin, y)
     q, q_dot = yq[:N], yq[N:]
-    xi, x_c, at_edge, side = thinnest_given(kin[3], yq, p)
-    return (xi - p.contact.min_film, contact.gap_rate(q, q_dot, x_c, at_edge, side, kin[4], L),
-            _rate_bound(p.galerkin, y, p.basis.omega_n, kin[1], kin[4], L))
+    xi, x_c, at_edge, side = thinnest_given(kin.x_star, yq, p)
+    return (xi - p.contact.min_film, contact.gap_rate(q, q_dot, x_c, at_edge, side, kin.V_r, L),
+            _rate_bound(p.galerkin, y, p.basis.omega_n, kin.omega, kin.V_r, L))
 
 
 @jitable
@@ -429,9 +308,9 @@ def compliant_many(t, y, side, v_minus, p):
     for i in range(t.shape[0]):
         if side[i] != 0.0:
             kin = motion_at(t[i], p.motion)
-            x0 = film.pad_start(kin[3], p.film.pad_length, p.film.pad_reference)
+            x0 = film.pad_start(kin.x_star, p.film.pad_length, p.film.pad_reference)
             F[:] = 0.0
-            force[i] = compliant.compliant_force(y[i, :N], y[i, N:], x0, kin[4], p.film, p.contact, p.pad,
+            force[i] = compliant.compliant_force(y[i, :N], y[i, N:], x0, kin.V_r, p.film, p.contact, p.pad,
                                                  p.basis.rod_length, side[i], v_minus[i], p.beam.width, F)
             power[i] = np.dot(y[i, N:], F)
     return force, power

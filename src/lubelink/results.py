@@ -370,7 +370,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     data["impact_side"] = _entry("impact_side", np.sign(codes))  # the spatial model's codes +-2: the u3 faces
     if model.params.spatial is not None and fm.faces == "u2+u3":
         data["impact_face"] = _entry("impact_face", 2 + (np.abs(codes) == 2))
-    energy_note, residual, relative = _energy(result, want, t, y, data)
+    energy_note, residual, relative = _energy(result, want, t, np.ascontiguousarray(y_state, dtype=float), data)
     for name, value in later.items():
         data[name] = _entry(name, value())
     data = {name: data[name] for name in VARIABLES if name in data}
@@ -434,9 +434,6 @@ def _energy(result, want, t, y, data):
 
     if not any(name in want for name in _ENERGY):
         return "not asked for", np.nan, np.nan
-    why = energy.missing(result.model)
-    if why:
-        return f"no energy budget for {why}", np.nan, np.nan
     side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
     series, (change, loss, collar), residual = energy.of_run(result, t, y, side)
     for name, value in series.items():

@@ -27,13 +27,15 @@ diagonal linear part ``diag(W^2)`` of :func:`frequencies` (the exponential integ
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ._jit import jitable
 from .beam import rigid_load, wavenumbers
 
-__all__ = ["frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations", "deflections"]
+__all__ = ["SpatialRigidMotion", "frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations",
+           "deflections"]
 
 
 def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
@@ -157,9 +159,46 @@ def _frame(a, e1, e2, e3):
     return (_dot(a, e1), _dot(a, e2), _dot(a, e3))
 
 
+class SpatialRigidMotion(NamedTuple):
+    """Rigid motion of the spatial link at one time (or at samples: arrays over time in front).
+
+    The layout of the planar :class:`~lubelink.kinematics.RigidMotion`: ``omega``, ``alpha``,
+    ``x_star``, ``V_r`` at positions 1-4.
+
+    Attributes
+    ----------
+    A_O : 3-tuple
+        True acceleration of O, link-frame components [m/s^2].
+    omega, alpha : 3-tuple
+        Angular velocity [rad/s] and acceleration [rad/s^2] of the link frame, link-frame components.
+    x_star : float
+        Collar position along the link, from O [m].
+    V_r : float
+        Collar velocity relative to the link, along ``e1`` [m/s].
+    e1, e2, e3 : 3-tuple
+        The link frame in fixed components [-].
+    v_O : 3-tuple
+        Velocity of O, link-frame components [m/s] (NaN for a motion given as samples or callables).
+    O : 3-tuple
+        Position of O in the fixed frame [m] (NaN as ``v_O``).
+    """
+
+    A_O: tuple
+    omega: tuple
+    alpha: tuple
+    x_star: float
+    V_r: float
+    e1: tuple
+    e2: tuple
+    e3: tuple
+    v_O: tuple
+    O: tuple
+
+
 @jitable
 def rssp_tuples(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point, slider_dir):
-    """:func:`slider_crank_rssp` with every vector a 3-tuple of floats (the form compiled callers use: no allocation)."""
+    """:func:`slider_crank_rssp` with every vector a 3-tuple of floats (the form compiled callers use: no allocation):
+    a :class:`SpatialRigidMotion`."""
     k = _v3(crank_axis)
     a = _v3(crank_ref)
     P = _v3(slider_point)
@@ -206,10 +245,9 @@ def rssp_tuples(t, crank_length, rod_length, crank_speed, guide, crank_axis, cra
     den = _dot(d, e1)
     x_star = num / den
     V_r = (-_dot(d, O_t) * den - num * _dot(d, e1_t)) / (den * den)
-    return A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3
+    return SpatialRigidMotion(A_O, w, alpha, x_star, V_r, e1, e2, e3, v_O, O)
 
 
-@jitable
 def slider_crank_rssp(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point,
                       slider_dir):
     """Closed-form kinematics of the spatial slider-crank (RSSP) at time ``t`` [s] (docs/spatial.md).
@@ -225,14 +263,8 @@ def slider_crank_rssp(t, crank_length, rod_length, crank_speed, guide, crank_axi
 
     Returns
     -------
-    tuple
-        ``(A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3)``: true acceleration [m/s^2] and
-        velocity [m/s] of O, angular velocity [rad/s] and acceleration [rad/s^2], all 3-vectors
-        in link-frame components; collar position on the link [m] and its velocity along it
-        [m/s]; then O [m] and the frame vectors in fixed components. The vectors are NumPy
-        arrays; compiled callers use :func:`rssp_tuples`, the same values as 3-tuples.
+    SpatialRigidMotion
+        Its vectors NumPy arrays; compiled callers use :func:`rssp_tuples`, the same values as 3-tuples.
     """
-    A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3 = rssp_tuples(
-        t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point, slider_dir)
-    return (np.array(A_O), np.array(w), np.array(alpha), np.array(v_O), x_star, V_r, np.array(O), np.array(e1),
-            np.array(e2), np.array(e3))
+    k = rssp_tuples(t, crank_length, rod_length, crank_speed, guide, crank_axis, crank_ref, slider_point, slider_dir)
+    return SpatialRigidMotion(*(v if isinstance(v, float) else np.array(v) for v in k))

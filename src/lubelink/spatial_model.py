@@ -5,7 +5,7 @@ in-plane ``u2`` and out-of-plane ``u3`` sine modes of a uniform link under the r
 the spatial slider-crank (:mod:`lubelink.spatial_motion`). The equations are
 :func:`lubelink.spatial.accelerations`; the collar's film (and the asperity contact) act on the
 ``u2`` faces exactly as in the planar model, the same functions called on the ``q2`` block
-(:func:`lubelink.film.modal_film_force`, :func:`lubelink.model.thinnest_given`,
+(:func:`lubelink.film.modal_film_force`, :func:`lubelink.faces.thinnest_on`,
 :func:`lubelink.contact.gap_rate`), and with ``film.faces = "u2+u3"`` a second pair on the ``u3``
 faces, the same functions on the ``q3`` block (pad width ``beam.height``); the gap is the thinner
 pair's (docs/spatial.md, "Film pairs"). The parameters are the planar
@@ -15,7 +15,7 @@ in ``Params.spatial``.
 Contact on the pair whose film broke (side codes of :func:`face_of`: +-1 the ``u2`` faces, +-2
 the ``u3`` faces): the compliant force on its block, the restitution impacts (the jump of its
 block's velocities: the mass matrix is diagonal across the directions), and after a Zeno
-sequence the sustained contact (:func:`lubelink.model.sustained_on` on its block), all as in
+sequence the sustained contact (:func:`lubelink.faces.sustained_on` on its block), all as in
 the planar model.
 A motion of the user's (:class:`~lubelink.spatial_motion.SpatialPrescribedMotion`, sampled or
 callables) replaces the slider-crank.
@@ -34,10 +34,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import contact, film, section, spatial, spatial_section
+from . import contact, section, spatial, spatial_section
 from ._jit import jitable, kernel
 from .assembly import Model, _backend, make_params
-from .model import ContactPhase, _compliant_term, asperity_term, in_sustained, sustained_on, thinnest_given
+from .faces import ContactPhase, compliant_on, face_loads, in_sustained, sustained_on, thinnest_on
+from .kinematics import RigidMotion
 from .params import CHOICES
 from .spatial_motion import (SpatialMotion, SpatialSliderCrank, collar_acceleration_at, geometry, motion_problems,
                              spatial_motion_at)
@@ -84,16 +85,6 @@ def face_of(code):
 
 
 @jitable
-def _face_loads(q, q_t, x_star, V_r, p, width, F):
-    """Add the film (and asperity) forces of one face pair, the planar functions on its block ``q``, ``q_t``, to ``F`` [N]."""
-    L = p.basis.rod_length
-    if p.film.model != film.NO_FILM:
-        film.modal_film_force(q, q_t, x_star, V_r, p.film, width, p.pad, L, F)
-    if p.film.roughness > 0.0:
-        asperity_term(p.rough, q, x_star, p, width, F)
-
-
-@jitable
 def _compliant_spatial(phase, y, x_star, V_r, p, F):
     """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing) on its face's block."""
     if phase is None:
@@ -103,14 +94,13 @@ def _compliant_spatial(phase, y, x_star, V_r, p, F):
     k, side = face_of(phase.side)
     N = p.basis.modes
     M = 3 * N
-    _compliant_term(ContactPhase(side, phase.v_minus, phase.point), y[k * N:(k + 1) * N],
-                    y[M + k * N:M + (k + 1) * N], x_star, V_r, p, p.beam.height if k == 2 else p.beam.width,
-                    F[k * N:(k + 1) * N])
+    compliant_on(ContactPhase(side, phase.v_minus, phase.point), y[k * N:(k + 1) * N], y[M + k * N:M + (k + 1) * N],
+                 x_star, V_r, p, p.beam.height if k == 2 else p.beam.width, F[k * N:(k + 1) * N])
 
 
 @jitable(inline=True)
 def spatial_rhs_given(kin, y, out, p):
-    """``dy/dt`` into ``out`` for the rigid motion ``kin`` (the tuple of :func:`spatial_motion_at`), without a sustained contact."""
+    """``dy/dt`` into ``out`` for the rigid motion ``kin`` (:class:`~lubelink.spatial.SpatialRigidMotion`), without a sustained contact."""
     _rhs_in(p.spatial.galerkin, kin, y, out, p)
 
 
@@ -118,8 +108,8 @@ def spatial_rhs_given(kin, y, out, p):
 def _rhs_in(g, kin, y, out, p):
     """:func:`spatial_rhs_given` for the eigenbases ``g`` (None, a uniform link: the sine-mode equations; the
     branches of the other case are pruned when compiled, so a uniform link runs the code it always ran)."""
-    A_O, w, al = kin[0], kin[1], kin[2]
-    x_star, V_r = kin[4], kin[5]
+    A_O, w, al = kin.A_O, kin.omega, kin.alpha
+    x_star, V_r = kin.x_star, kin.V_r
     N = p.basis.modes
     M = 3 * N
     L = p.basis.rod_length
@@ -129,11 +119,11 @@ def _rhs_in(g, kin, y, out, p):
         yq = spatial_section.physical(g, y)  # the sine-mode state
     F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
     F[:] = 0.0
-    _face_loads(yq[N:2 * N], yq[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
+    face_loads(yq[N:2 * N], yq[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
     if p.film.faces == U2_U3:  # the u3 faces: pad width h
-        _face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
+        face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
     _compliant_spatial(p.phase, yq, x_star, V_r, p, F)
-    A = effective_acceleration(A_O, kin[7], kin[8], kin[9], p.mechanism.gravity)
+    A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
     if g is None:
         spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
     else:
@@ -145,7 +135,7 @@ def _rhs_in(g, kin, y, out, p):
 def _sustained_spatial(phase, t, kin, y, out, p):
     """Apply the sustained contact ``phase`` to ``out`` (``dy/dt`` without it) on its face's block; return its force [N].
 
-    :func:`lubelink.model.sustained_on` on the block, the collar acceleration of the spatial
+    :func:`lubelink.faces.sustained_on` on the block, the collar acceleration of the spatial
     motion, the Baumgarte rate the block's highest frequency (None: compiles to nothing).
     """
     if phase is None:
@@ -154,8 +144,8 @@ def _sustained_spatial(phase, t, kin, y, out, p):
     N = p.basis.modes
     M = 3 * N
     A_r = collar_acceleration_at(t, p.spatial.motion)
-    return sustained_on(y[k * N:(k + 1) * N], y[M + k * N:M + (k + 1) * N], out[M + k * N:M + (k + 1) * N], kin[4],
-                        kin[5], A_r, p, side, phase.point, p.spatial.W[(k + 1) * N - 1])
+    return sustained_on(y[k * N:(k + 1) * N], y[M + k * N:M + (k + 1) * N], out[M + k * N:M + (k + 1) * N],
+                        kin.x_star, kin.V_r, A_r, p, side, phase.point, p.spatial.W[(k + 1) * N - 1])
 
 
 @kernel
@@ -191,9 +181,9 @@ def _gap_in(g, kin, y, p):
     else:
         yq = spatial_section.physical(g, y)
     q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
-    w = kin[1]
-    V_r = kin[5]
-    xi, x_c, at_edge, side = thinnest_given(kin[4], q2, p)
+    w = kin.omega
+    V_r = kin.V_r
+    xi, x_c, at_edge, side = thinnest_on(kin.x_star, q2, p)
     spin = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     rate = contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L)
     if g is None:
@@ -203,7 +193,7 @@ def _gap_in(g, kin, y, p):
                                          p.basis.omega_n, spin, V_r)
     if p.film.faces == U2_U3 and g is None:  # (a variable section with the u3 pair is refused)
         q3, q3_t = y[2 * N:M], y[M + 2 * N:]
-        xi3, x_c3, at_edge3, side3 = thinnest_given(kin[4], q3, p)
+        xi3, x_c3, at_edge3, side3 = thinnest_on(kin.x_star, q3, p)
         bound = max(bound, contact.gap_rate_bound(q3, q3_t, p.spatial.W[2 * N:], spin, V_r, L))
         if xi3 < xi:
             xi = xi3
@@ -216,9 +206,9 @@ def _thinnest_over_pairs(g, kin, y, p):
     """The thinnest film over the pad on the face pairs :func:`spatial_gap_given` watches [m] (``g`` as there)."""
     N = p.basis.modes
     yq = y if g is None else spatial_section.physical(g, y)
-    xi = thinnest_given(kin[4], yq[N:2 * N], p)[0]
+    xi = thinnest_on(kin.x_star, yq[N:2 * N], p)[0]
     if p.film.faces == U2_U3 and g is None:
-        xi = min(xi, thinnest_given(kin[4], y[2 * N:3 * N], p)[0])
+        xi = min(xi, thinnest_on(kin.x_star, y[2 * N:3 * N], p)[0])
     return xi
 
 
@@ -310,6 +300,11 @@ class SpatialModel(Model):
         N = self.modes
         return np.concatenate([y[..., k * N:(k + 1) * N], y[..., (3 + k) * N:(4 + k) * N]], axis=-1)
 
+    def face_block(self, y, side):
+        """``(block states [q_k, q_k_t], side +-1)`` of the pair of faces of the side code ``side`` (:func:`face_of`)."""
+        k, s = face_of(float(side))
+        return self.block_state(y, k), s
+
     def planar_state(self, y):
         """``[q2, q2_t]`` of states ``y`` ``(..., 6 N)``: the in-plane block the ``u2`` film and the results read.
 
@@ -326,9 +321,10 @@ class SpatialModel(Model):
         return spatial.deflections(y, x, self.config.mechanism.rod_length)
 
     def kinematics(self, t):
-        """The planar-shaped tuple ``(A_O2, omega3, alpha3, x_star, V_r, 0, 0, nan)`` at ``t`` [s]."""
+        """The in-plane part of the rigid motion at ``t`` [s] as a planar :class:`~lubelink.kinematics.RigidMotion`
+        (``A_O2``, ``omega3``, ``alpha3``, ``x_star``, ``V_r``)."""
         k = self.motion.at(t)
-        return (float(k[0][1]), float(k[1][2]), float(k[2][2]), float(k[4]), float(k[5]), 0.0, 0.0, np.nan)
+        return RigidMotion(float(k.A_O[1]), float(k.omega[2]), float(k.alpha[2]), float(k.x_star), float(k.V_r))
 
     def functions(self):
         if self.compiled:
@@ -360,7 +356,7 @@ class SpatialModel(Model):
         k, side = face_of(code)
         b = self.block_state(y, k)
         N = self.modes
-        v = side * contact.approach_velocity(b[:N], b[N:], x_c, self.kinematics(t)[4] if edge else 0.0,
+        v = side * contact.approach_velocity(b[:N], b[N:], x_c, self.kinematics(t).V_r if edge else 0.0,
                                              self.config.mechanism.rod_length)
         return float(v), x_c, code
 

@@ -32,7 +32,7 @@ import numpy as np
 
 from ._jit import jitable
 from .kinematics import cubic_piece, knot_interval
-from .spatial import _cross, _dot, _frame, rssp_tuples
+from .spatial import SpatialRigidMotion, _cross, _dot, _frame, rssp_tuples
 
 __all__ = ["SpatialMotion", "spatial_motion_at", "collar_acceleration_at", "SpatialSliderCrank", "geometry",
            "travel_problems", "SpatialPrescribedMotion", "SampledSpatialMotion", "sampled_spatial_motion", "CHANNELS"]
@@ -81,10 +81,8 @@ def spatial_motion_at(t, m):
     """Rigid motion of the link at ``t`` [s] for the table ``m``: :func:`~lubelink.spatial.slider_crank_rssp`,
     or the splines of a sampled motion (:func:`sampled_tuples`).
 
-    Returns ``(A_O, w, alpha, v_O, x_star, V_r, O, e1, e2, e3)``: link-frame components of the
-    true acceleration [m/s^2] and velocity [m/s] of O, angular velocity [rad/s] and acceleration
-    [rad/s^2]; collar position [m] and velocity along the link [m/s]; O [m] and the frame
-    vectors in fixed components. The vectors are 3-tuples of floats (nothing is allocated per call).
+    Returns a :class:`~lubelink.spatial.SpatialRigidMotion` whose vectors are 3-tuples of floats
+    (nothing is allocated per call).
     """
     return _spatial_motion(t, m, m.knots, m.coef)
 
@@ -111,8 +109,8 @@ def sampled_tuples(t, knots, coef):
     e1 = (cubic_piece(coef, 11, i, dx), cubic_piece(coef, 12, i, dx), cubic_piece(coef, 13, i, dx))
     e2 = (cubic_piece(coef, 14, i, dx), cubic_piece(coef, 15, i, dx), cubic_piece(coef, 16, i, dx))
     nan3 = (np.nan, np.nan, np.nan)
-    return (A_O, w, alpha, nan3, cubic_piece(coef, 9, i, dx), cubic_piece(coef, 10, i, dx), nan3, e1, e2,
-            _cross(e1, e2))
+    return SpatialRigidMotion(A_O, w, alpha, cubic_piece(coef, 9, i, dx), cubic_piece(coef, 10, i, dx), e1, e2,
+                              _cross(e1, e2), nan3, nan3)
 
 
 @jitable
@@ -136,21 +134,18 @@ def _collar_acceleration(t, m, knots, coef):
         i, dx = knot_interval(t, knots)
         c = 10  # the row of V_r in CHANNELS
         return (3.0 * coef[c, 0, i] * dx + 2.0 * coef[c, 1, i]) * dx + coef[c, 2, i]
-    A_O, w, al, v_O, x_star, V_r, O, e1, e2, e3 = spatial_motion_at(t, m)
-    d = _frame(m.slider_dir, e1, e2, e3)  # the guide plane's normal in link-frame components
+    k = spatial_motion_at(t, m)
+    A_O, w, al, x_star, V_r = k.A_O, k.omega, k.alpha, k.x_star, k.V_r
+    d = _frame(m.slider_dir, k.e1, k.e2, k.e3)  # the guide plane's normal in link-frame components
     den_t = d[1] * w[2] - d[2] * w[1]
     den_tt = (-d[0] * (w[1] * w[1] + w[2] * w[2]) + d[1] * (al[2] + w[0] * w[1]) + d[2] * (w[0] * w[2] - al[1]))
     return (-_dot(d, A_O) - x_star * den_tt - 2.0 * V_r * den_t) / d[0]
 
 
-class Kinematics(NamedTuple):
-    """Samples of the spatial rigid motion (arrays over time): what the results read."""
-
-    A_O: np.ndarray
-    omega: np.ndarray
-    alpha: np.ndarray
-    x_star: np.ndarray
-    V_r: np.ndarray
+def _samples(rows) -> SpatialRigidMotion:
+    """The :class:`~lubelink.spatial.SpatialRigidMotion` of ``rows`` (one per time) as arrays over time
+    (vectors shape ``(T, 3)``)."""
+    return SpatialRigidMotion(*(np.array(column, dtype=float) for column in zip(*rows)))
 
 
 @dataclass(frozen=True)
@@ -164,17 +159,13 @@ class SpatialSliderCrank:
         return geometry(self.mechanism)
 
     def at(self, t):
-        """The tuple of :func:`spatial_motion_at` at one time ``t`` [s]."""
+        """The :class:`~lubelink.spatial.SpatialRigidMotion` of :func:`spatial_motion_at` at one time ``t`` [s]."""
         return spatial_motion_at(float(t), self.table())
 
-    def __call__(self, t) -> Kinematics:
-        """:class:`Kinematics` at the times ``t`` [s] (``A_O``, ``omega``, ``alpha`` shape ``(T, 3)``)."""
-        t = np.atleast_1d(np.asarray(t, dtype=float))
+    def __call__(self, t) -> SpatialRigidMotion:
+        """The rigid motion at the times ``t`` [s] as arrays over time (vectors shape ``(T, 3)``)."""
         m = self.table()
-        rows = [spatial_motion_at(float(ti), m) for ti in t]
-        return Kinematics(np.array([r[0] for r in rows]).reshape(-1, 3), np.array([r[1] for r in rows]).reshape(-1, 3),
-                          np.array([r[2] for r in rows]).reshape(-1, 3), np.array([r[4] for r in rows]),
-                          np.array([r[5] for r in rows]))
+        return _samples([spatial_motion_at(float(ti), m) for ti in np.atleast_1d(np.asarray(t, dtype=float))])
 
 
 @lru_cache(maxsize=4096)
@@ -194,7 +185,7 @@ def collar_travel(mechanism, samples=721):
             except ZeroDivisionError:  # plain floats: the link normal to the slider line or in the guide plane
                 x.append(np.nan)
                 continue
-            x.append(r[4] if np.all(np.isfinite(r[0])) and np.isfinite(r[5]) else np.nan)
+            x.append(r.x_star if np.all(np.isfinite(r.A_O)) and np.isfinite(r.V_r) else np.nan)
     x = np.array(x)
     if not np.all(np.isfinite(x)):
         return np.nan, np.nan
@@ -325,7 +316,8 @@ class SpatialPrescribedMotion:
         return None
 
     def at(self, t):
-        """The tuple of :func:`spatial_motion_at` at one time ``t`` [s], from the callables (``v_O``, ``O`` NaN)."""
+        """The :class:`~lubelink.spatial.SpatialRigidMotion` at one time ``t`` [s], from the callables (``v_O``,
+        ``O`` NaN)."""
         t = float(t)
         where = f"SpatialPrescribedMotion at t = {t:g} s"
         vec = {name: _vector(self._get(name, t), f"{where}: {name}") for name in ("A_O", "omega", "alpha")}
@@ -333,14 +325,13 @@ class SpatialPrescribedMotion:
         e2 = _Y if self.e2 is None else _vector(self._get("e2", t), f"{where}: e2")
         if (self.e1 is not None or self.e2 is not None) and not _orthonormal(e1, e2):
             _check_frame(e1, e2, where)
-        return (vec["A_O"], vec["omega"], vec["alpha"], _NAN3, _scalar(self._get("x_star", t), f"{where}: x_star"),
-                _scalar(self._get("V_r", t), f"{where}: V_r"), _NAN3, e1, e2, _cross(e1, e2))
+        return SpatialRigidMotion(vec["A_O"], vec["omega"], vec["alpha"],
+                                  _scalar(self._get("x_star", t), f"{where}: x_star"),
+                                  _scalar(self._get("V_r", t), f"{where}: V_r"), e1, e2, _cross(e1, e2), _NAN3, _NAN3)
 
-    def __call__(self, t) -> Kinematics:
-        """:class:`Kinematics` at the times ``t`` [s] (``A_O``, ``omega``, ``alpha`` shape ``(T, 3)``)."""
-        rows = [self.at(ti) for ti in np.atleast_1d(np.asarray(t, dtype=float))]
-        return Kinematics(*(np.array([r[k] for r in rows], dtype=float).reshape(-1, 3) for k in (0, 1, 2)),
-                          np.array([r[4] for r in rows]), np.array([r[5] for r in rows]))
+    def __call__(self, t) -> SpatialRigidMotion:
+        """The rigid motion at the times ``t`` [s] as arrays over time (vectors shape ``(T, 3)``)."""
+        return _samples([self.at(ti) for ti in np.atleast_1d(np.asarray(t, dtype=float))])
 
 
 @dataclass(frozen=True, eq=False)
