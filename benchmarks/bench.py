@@ -86,15 +86,21 @@ import sys, time
 import numpy as np
 import lubelink
 from lubelink.config import resolve
-from lubelink.model import gap, rhs
+try:
+    from lubelink.link.model import gap, rhs
+except ImportError:  # a checkout before lubelink.link
+    from lubelink.model import gap, rhs
 try:
     from lubelink.build import build_model
 except ImportError:  # a checkout before lubelink.build
     from lubelink.model import build_model
 try:
-    from lubelink.spatial_model import spatial_gap, spatial_rhs
-except ImportError:  # a checkout without the spatial model
-    spatial_gap = spatial_rhs = None
+    from lubelink.link.spatial_model import spatial_gap, spatial_rhs
+except ImportError:
+    try:  # a checkout before lubelink.link
+        from lubelink.spatial_model import spatial_gap, spatial_rhs
+    except ImportError:  # a checkout without the spatial model
+        spatial_gap = spatial_rhs = None
 try:
     import numba
 except ImportError:

@@ -20,7 +20,7 @@ import numpy as np
 
 import lubelink
 from lubelink.config import resolve
-from lubelink.model import rhs
+from lubelink.link.model import rhs
 from lubelink.build import build_model
 
 CASES = [

@@ -7,7 +7,7 @@ Prints, for ``spatial-slider-crank`` (3 modes per direction unless ``--modes``):
    ``PATH/src``: one warm process per checkout, asked in turn (A B A B ...), minimum of
    ``--repeats``, so that the shared machine's drifting speed cancels in the ratio;
 2. in this checkout, the same three timings for a linear taper (``beam.width_ratio = 0.7``,
-   ``beam.height_ratio = 1.3``: the three Galerkin eigenbases of ``lubelink.spatial_section``)
+   ``beam.height_ratio = 1.3``: the three Galerkin eigenbases of ``lubelink.link.spatial_section``)
    beside the uniform link.
 
 Times are wall-clock on a shared machine: compare ratios within one run, not across runs.

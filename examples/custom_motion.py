@@ -10,7 +10,7 @@ quasi-static value ``-5 rho A L^4/(384 E I) (A_O2 + alpha L/2)``.
 import numpy as np
 
 import lubelink
-from lubelink.kinematics import sampled_motion
+from lubelink import sampled_motion
 
 
 def main(t_end=1.0):

@@ -167,7 +167,7 @@ BALANCE_X_STAR = 0.45
 def mixed_run():
     import lubelink
     from lubelink.config import resolve
-    from lubelink.kinematics import sampled_motion
+    from lubelink.link.kinematics import sampled_motion
 
     t = np.linspace(0.0, 0.31, 8)
     zero = np.zeros_like(t)

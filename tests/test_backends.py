@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from lubelink.config import resolve
-from lubelink.kinematics import PrescribedMotion, SliderCrank, sampled_motion
-from lubelink.model import BackendError, gap, rhs
+from lubelink.link.kinematics import PrescribedMotion, SliderCrank, sampled_motion
+from lubelink.link.model import BackendError, gap, rhs
 from lubelink.build import build_model
 from lubelink.simulate import run
 
@@ -171,7 +171,7 @@ def graze():
     ~1e-15 m and the film's curvature in time. ``min_film`` 1e-12 m above that minimum makes a
     graze of ``2 sqrt(2e-12 / curvature)`` (0.77 us), well under a microsecond.
     """
-    from lubelink.model import thinnest_many
+    from lubelink.link.model import thinnest_many
 
     base = {"film.model": "none", "film.clearance": 5e-3, "solver.t_end": 0.26, "solver.rtol": 1e-12,
             "solver.atol": 1e-16}
@@ -231,7 +231,7 @@ def test_sampled_motions_are_compiled():
 
 def test_a_second_process_loads_the_compiled_code_from_the_cache():
     run(resolve("paper", {"solver.t_end": 0.01}))  # compiles or loads, and writes the cache
-    code = ("from lubelink.simulate import run; from lubelink.config import resolve; import lubelink.model as m; "
+    code = ("from lubelink.simulate import run; from lubelink.config import resolve; import lubelink.link.model as m; "
             "import lubelink.integrate.driver as d; run(resolve('paper', {'solver.t_end': 0.01})); "
             "ks = (m.rhs, m.gap, d.advance); "
             "print(sum(k.stats.cache_hits.total() for k in ks), sum(k.stats.cache_misses.total() for k in ks))")

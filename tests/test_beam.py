@@ -15,7 +15,7 @@ from scipy.integrate import cumulative_simpson, quad
 
 import lubelink
 from lubelink import beam
-from lubelink.kinematics import PrescribedMotion, slider_crank
+from lubelink.link.kinematics import PrescribedMotion, slider_crank
 from lubelink.params import Beam
 
 # Section 6 rod, written out here (not taken from lubelink.params) so a

@@ -93,8 +93,8 @@ def test_functions_named_in_model_md_exist():
         fields = getattr(_CONFIG_SECTIONS.get(section), "__dataclass_fields__", {})
         if "." not in key and key in fields:
             continue  # a configuration key, e.g. film.cavitation
-        if section not in {"beam", "film", "kinematics", "contact", "model", "simulate", "results", "integrate",
-                           "params", "paper", "estimate", "_jit"}:
+        if section not in {"beam", "film", "link", "contact", "compliant", "energy", "assembly", "simulate", "results",
+                           "integrate", "params", "paper", "estimate", "_jit", "choice"}:
             continue
         assert callable(_resolve(name)) or isinstance(_resolve(name), type), name
         checked.append(name)

@@ -13,8 +13,8 @@ import lubelink
 from lubelink import contact
 from lubelink.beam import wavenumbers
 from lubelink.config import resolve
-from lubelink.kinematics import sampled_motion
-from lubelink.spatial_motion import sampled_spatial_motion
+from lubelink.link.kinematics import sampled_motion
+from lubelink.link.spatial_motion import sampled_spatial_motion
 from lubelink.results import collect, dataset
 from lubelink.simulate import run
 
@@ -256,7 +256,7 @@ def test_a_tapered_link_stores_the_energy_of_its_mass_and_stiffness_matrices():
     """A variable section (planar, taper 0.5): the energy in the results is q_dot^T M q_dot / 2 + q^T K q / 2 of the
     Galerkin matrices of the sine modes (computed here without the eigenbasis), and the budget closes (on 20 us
     samples; measured 0.12, 1.8e-4, 4.3e-6 at 1000, 100, 20 us: its higher modes vibrate more than a uniform link's)."""
-    from lubelink.section import galerkin_matrices, taper
+    from lubelink.link.section import galerkin_matrices, taper
 
     cfg = resolve("paper", {"beam.width_ratio": 0.5, "beam.height_ratio": 0.8, "beam.modes": 3,
                             "solver.output_step": 2e-5})

@@ -15,7 +15,7 @@ from lubelink.config import resolve
 from lubelink.film.asperity import asperity_stiffness, f52, greenwood_tripp_integral
 from lubelink.film.force import modal_film_force
 from lubelink.film.jacobian import has_film_jacobian, modal_film_jacobian, squeeze_rate
-from lubelink.model import rhs
+from lubelink.link.model import rhs
 
 FILMS = [dict(model=m, cavitation=c, sides=s) for m in ("wedge", "wedge+squeeze")
          for c in ("none", "half-sommerfeld") for s in (1, 2)]

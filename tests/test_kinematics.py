@@ -1,7 +1,7 @@
 """Slider-crank kinematics against docs/model.md §3 and independent geometry.
 
 Everything here is checked against something computed without
-``lubelink.kinematics``' closed forms: the independently computed reference
+``lubelink.link.kinematics``' closed forms: the independently computed reference
 table of docs/model.md §3, and positions built from the mechanism's
 geometry (crank pin on a circle, slider on the X axis, collar under a
 vertical guide) differentiated by 4th-order central finite differences.
@@ -16,7 +16,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from lubelink.kinematics import (
+from lubelink.link.kinematics import (
     PrescribedMotion,
     SliderCrank,
     collar_many,

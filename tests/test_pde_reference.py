@@ -9,7 +9,7 @@ is refined. ``tests/reference/fd_beam.py`` integrates
 by the method of lines (5-point u'''' with ghost nodes for the pinned ends),
 with no lubelink code. The forcing is the paper's slider-crank, written here
 from docs/model.md §3's formulas with the math module (and cross-checked
-against lubelink.kinematics). The modal solution is ``lubelink.simulate``'s
+against lubelink.link.kinematics). The modal solution is ``lubelink.simulate``'s
 "paper-dry" scenario with 5 modes.
 
 Runtime: ~10-20 s (three FD meshes plus one simulation), hence ``slow``; it
@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink.kinematics import slider_crank
+from lubelink.link.kinematics import slider_crank
 
 pytestmark = pytest.mark.slow
 

@@ -17,7 +17,7 @@ import pytest
 import lubelink
 from lubelink.cli import main
 from lubelink.config import resolve
-from lubelink.kinematics import PrescribedMotion, slider_crank
+from lubelink.link.kinematics import PrescribedMotion, slider_crank
 from lubelink.simulate import run
 from lubelink.steady import ShootingError, find_periodic, periodic
 

@@ -11,7 +11,7 @@ import pytest
 from lubelink import _jit, _prewarm
 from lubelink.config import from_dict, parse_toml, resolve, to_toml
 from lubelink.integrate.driver import signatures
-from lubelink.model import rhs
+from lubelink.link.model import rhs
 from lubelink.build import build_model
 from lubelink.simulate import run
 

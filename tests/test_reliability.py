@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink.kinematics import PrescribedMotion
+from lubelink.link.kinematics import PrescribedMotion
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 START, END = "<!-- reliability-table:start -->", "<!-- reliability-table:end -->"

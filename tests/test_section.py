@@ -1,4 +1,4 @@
-"""Variable section (lubelink.section): Galerkin matrices, eigenbasis, and the model built on them.
+"""Variable section (lubelink.link.section): Galerkin matrices, eigenbasis, and the model built on them.
 
 References are independent of the sine-mode Galerkin code: closed forms for the uniform link, a
 finite-difference eigen and static solution of ``(E I w'')'' = ...`` for the tapered one.
@@ -7,9 +7,11 @@ finite-difference eigen and static solution of ``(E I w'')'' = ...`` for the tap
 import numpy as np
 import pytest
 
-from lubelink import beam, config, section
+from lubelink import beam, config
+
+from lubelink.link import section
 from lubelink.config import ConfigError
-from lubelink.kinematics import PrescribedMotion
+from lubelink.link.kinematics import PrescribedMotion
 from lubelink.build import build_model
 from lubelink.params import Beam
 
@@ -209,7 +211,7 @@ def fd_modal_response(sec, t_eval, n=400, modes=8):
     ``modes`` eigenmodes of the finite-difference operators (no sine basis), by ``solve_ivp``."""
     from scipy.integrate import solve_ivp
 
-    from lubelink.kinematics import slider_crank
+    from lubelink.link.kinematics import slider_crank
 
     x, K, m = fd_operators(sec, n)
     s = np.sqrt(m)

@@ -6,7 +6,7 @@ import pytest
 import lubelink
 from lubelink import contact
 from lubelink.config import resolve
-from lubelink.kinematics import PrescribedMotion
+from lubelink.link.kinematics import PrescribedMotion
 from lubelink.simulate import run
 
 # Dry joint with a 5 mm clearance: the link first reaches the collar at about t = 0.24 s.
@@ -71,7 +71,7 @@ def _resting(N, delta, t_end):
 
     The pad is short so that the link propped at one point of it does not reach the face elsewhere (with the
     50 mm pad it sags 0.5 um or more into the face beside the prop, and the run stops with ``penetration``)."""
-    from lubelink.kinematics import sampled_motion
+    from lubelink.link.kinematics import sampled_motion
 
     t = np.linspace(-1.0, t_end + 1.0, 8)
     z = np.zeros_like(t)
@@ -216,7 +216,7 @@ def test_bit_identical_reruns(short):
 
 def test_user_motion_replaces_the_crank(short):
     """A prescribed motion identical to the slider-crank gives the slider-crank's results."""
-    from lubelink.kinematics import SliderCrank
+    from lubelink.link.kinematics import SliderCrank
 
     sc = SliderCrank(resolve("paper").mechanism)
     user = PrescribedMotion(A_O2=lambda t: sc(t).A_O2, omega=lambda t: sc(t).omega,

@@ -1,4 +1,4 @@
-"""The spatial link's modal equations (lubelink.spatial) against closed forms and the planar model.
+"""The spatial link's modal equations (lubelink.link.spatial) against closed forms and the planar model.
 
 References: the gyroscopic whirl of a link spinning about its own axis (characteristic quartic),
 the fixed-fixed bar (finite differences), the quasi-static axial stretch of a spinning link (closed
@@ -9,7 +9,9 @@ planar motion.
 import numpy as np
 import pytest
 
-from lubelink import beam, spatial
+from lubelink import beam
+
+from lubelink.link import spatial
 
 E, RHO, L = 207e9, 7650.0, 1.0
 
@@ -187,7 +189,7 @@ def test_rssp_kinematics_against_finite_differences_of_positions():
 
 def test_rssp_planar_case_is_the_paper_slider_crank():
     """Crank axis normal to the slider line through the crank centre: the planar closed forms."""
-    from lubelink.kinematics import slider_crank
+    from lubelink.link.kinematics import slider_crank
 
     for t in (0.0123, 0.05, 0.13):
         k_ = _rssp(t, axis=(0, 0, 1), P=(0, 0, 0))

@@ -1,4 +1,4 @@
-"""The spatial model wired into the library (``beam.model = "spatial"``, lubelink.spatial_model).
+"""The spatial model wired into the library (``beam.model = "spatial"``, lubelink.link.spatial_model).
 
 * its planar case against the planar model, the film included: the right-hand side differs only
   by the axial-bending terms ``2 omega q1_t + alpha q1`` (to round-off), a whole run by less than
@@ -19,14 +19,15 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink import spatial
+from lubelink.link import spatial
 from lubelink.config import resolve
-from lubelink.model import rhs, rhs_given
+from lubelink.link.model import rhs, rhs_given
 from lubelink.build import build_model
 from lubelink.results import to_dataset
 from lubelink.simulate import run as simulate_run
-from lubelink.spatial_model import SpatialModel, spatial_gap, spatial_rhs
-from lubelink.spatial_motion import geometry, spatial_motion_at
+from lubelink.spatial_assembly import SpatialModel
+from lubelink.link.spatial_model import spatial_gap, spatial_rhs
+from lubelink.link.spatial_motion import geometry, spatial_motion_at
 
 EPS = np.finfo(float).eps
 TIGHT = {"solver.rtol": 1e-10, "solver.atol": 1e-14}
@@ -159,7 +160,7 @@ def test_spatial_scenario_runs_on_both_backends_and_methods():
 
 
 def test_spatial_motion_of_the_planar_geometry_is_the_planar_slider_crank():
-    from lubelink.kinematics import slider_crank
+    from lubelink.link.kinematics import slider_crank
 
     cfg = resolve("paper", {"beam.model": "spatial"})
     m = geometry(cfg.mechanism)
@@ -323,9 +324,9 @@ def test_a_one_sided_u3_pair_drives_u3_as_the_planar_film_drives_u2():
     (0.93 mm at its thinnest) changes the deflection by 3.6 % of the dry link's."""
     from scipy.integrate import solve_ivp
 
-    from lubelink.kinematics import RigidMotion
-    from lubelink.spatial import SpatialRigidMotion
-    from lubelink.spatial_model import spatial_rhs_given
+    from lubelink.link.kinematics import RigidMotion
+    from lubelink.link.spatial import SpatialRigidMotion
+    from lubelink.link.spatial_model import spatial_rhs_given
 
     N = 2
     common = {"beam.modes": N, "film.clearance": 3e-3, "film.viscosity": 0.3}
@@ -429,8 +430,8 @@ def test_impacts_and_sustained_contact_on_both_pairs_are_the_same_on_both_backen
 def test_the_spatial_collar_acceleration_is_the_derivative_of_its_velocity():
     """collar_acceleration_at: central differences of V_r (Richardson-extrapolated) on the RSSP, and the planar
     closed form when the mechanism is planar."""
-    from lubelink.kinematics import slider_crank_state
-    from lubelink.spatial_motion import collar_acceleration_at
+    from lubelink.link.kinematics import slider_crank_state
+    from lubelink.link.spatial_motion import collar_acceleration_at
 
     m = geometry(resolve("spatial-slider-crank").mechanism)
     V = lambda t: spatial_motion_at(t, m).V_r  # noqa: E731
@@ -449,7 +450,7 @@ def test_a_sustained_contact_acts_on_its_faces_block_by_baumgartes_law(code):
     """A sustained contact of side code +-1 (u2 faces) or +-2 (u3 faces) at a material point: only its block's
     accelerations change, and there the gap at the point obeys g_tt + 2 a g_t + a^2 g = 0 (a: the block's highest
     frequency); compiled and Python agree."""
-    from lubelink.spatial_model import face_of, spatial_gap
+    from lubelink.link.spatial_model import face_of, spatial_gap
 
     model = build_model(resolve("spatial-slider-crank", {"film.faces": "u2+u3", "film.sides": 2,
                                                          "film.clearance": 5e-3, "contact.law": "restitution"}))
@@ -484,7 +485,7 @@ def test_a_sustained_contact_acts_on_its_faces_block_by_baumgartes_law(code):
 def test_a_compliant_contact_acts_on_its_faces_block(code):
     """The compliant force of a contact on the u2 (+-1) or u3 (+-2) faces loads only its block, as the planar force
     of that block's state (Model.contact_force on it); compiled and Python agree."""
-    from lubelink.spatial_model import face_of
+    from lubelink.link.spatial_model import face_of
 
     model = build_model(resolve("spatial-slider-crank", {"film.faces": "u2+u3", "film.sides": 2, "film.model": "none",
                                                          "film.clearance": 2e-4, "contact.law": "compliant"}))
@@ -508,7 +509,7 @@ def test_a_compliant_contact_acts_on_its_faces_block(code):
 
 
 def test_a_planar_motion_is_refused_by_the_spatial_model():
-    from lubelink.kinematics import SliderCrank
+    from lubelink.link.kinematics import SliderCrank
 
     cfg = resolve("spatial-slider-crank")
     with pytest.raises(lubelink.ConfigError, match="beam.model = 'spatial'"):

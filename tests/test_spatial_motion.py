@@ -1,4 +1,4 @@
-"""A spatial motion of the user's (lubelink.spatial_motion): callables and samples against independent results.
+"""A spatial motion of the user's (lubelink.link.spatial_motion): callables and samples against independent results.
 
 * the built-in RSSP slider-crank's own kinematics fed back as callables gives the built-in run
   (the same equations, evaluated from Python); fed as samples every ``h``, the run converges to
@@ -19,7 +19,7 @@ from lubelink.build import build_model
 from lubelink.config import resolve
 from lubelink.errors import BackendError
 from lubelink.simulate import run
-from lubelink.spatial_motion import (CHANNELS, SampledSpatialMotion, SpatialPrescribedMotion, SpatialSliderCrank,
+from lubelink.link.spatial_motion import (CHANNELS, SampledSpatialMotion, SpatialPrescribedMotion, SpatialSliderCrank,
                                      sampled_spatial_motion, spatial_motion_at)
 
 SHORT = {"solver.t_end": 0.02, "beam.modes": 2, "output.x_points": 11}
@@ -213,7 +213,7 @@ def test_a_run_outside_the_samples_or_a_pad_off_the_link_is_refused():
 
 
 def test_planar_and_spatial_motions_are_refused_by_the_other_model():
-    from lubelink.kinematics import SliderCrank
+    from lubelink.link.kinematics import SliderCrank
 
     spatial_cfg, planar_cfg = resolve("spatial-slider-crank"), resolve("paper")
     with pytest.raises(lubelink.ConfigError, match="motion = SliderCrank: beam.model = 'spatial' needs a spatial"):
@@ -228,7 +228,8 @@ def test_planar_and_spatial_motions_are_refused_by_the_other_model():
 def test_simulate_validates_the_spatial_mechanism_once(monkeypatch):
     """``simulate(name, set=...)`` turns the crank over a turn (the validation of the spatial mechanism) once:
     not for the scenario and again after the overrides; a mechanism seen before is remembered."""
-    from lubelink import config, spatial_motion
+    from lubelink import config
+    from lubelink.link import spatial_motion
 
     cached = spatial_motion.collar_travel
     cached.cache_clear()
@@ -248,7 +249,7 @@ def test_collar_acceleration_of_a_sampled_motion_converges_to_the_slider_crank()
     """The sustained contact reads the collar's acceleration: for samples, the derivative of the
     ``V_r`` spline. Against the slider-crank's closed form (checked against differences of ``V_r``
     in tests/test_spatial_model.py) between the knots, at order >= 2 as the step halves."""
-    from lubelink.spatial_motion import collar_acceleration_at
+    from lubelink.link.spatial_motion import collar_acceleration_at
 
     cfg = resolve("spatial-slider-crank", SHORT)
     exact = SpatialSliderCrank(cfg.mechanism).table()

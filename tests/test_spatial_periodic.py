@@ -21,11 +21,11 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink import spatial
+from lubelink.link import spatial
 from lubelink.cli import main
 from lubelink.config import resolve
-from lubelink.kinematics import slider_crank
-from lubelink.spatial_motion import geometry
+from lubelink.link.kinematics import slider_crank
+from lubelink.link.spatial_motion import geometry
 from lubelink.steady import find_periodic
 from lubelink.steady.orbit import orbit_run
 

@@ -1,4 +1,4 @@
-"""The spatial link of variable section (lubelink.spatial_section, wired in lubelink.spatial_model).
+"""The spatial link of variable section (lubelink.link.spatial_section, wired in lubelink.link.spatial_model).
 
 References, independent of the sine-mode Galerkin code:
 
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import lubelink
-from lubelink import section, spatial, spatial_section
+from lubelink.link import section, spatial, spatial_section
 from lubelink.config import resolve
 from lubelink.build import build_model
 from lubelink.params import Beam
@@ -252,10 +252,10 @@ def test_planar_case_with_a_taper_matches_the_planar_model(scenario):
 
 def _scipy_mass_matrix_run(cfg, sec, t_eval):
     """The spatial slider-crank, dry, in sine coordinates with the mass matrix (:class:`MassMatrixForm`)
-    under :func:`lubelink.spatial.slider_crank_rssp`, by SciPy's DOP853."""
+    under :func:`lubelink.link.spatial.slider_crank_rssp`, by SciPy's DOP853."""
     from scipy.integrate import solve_ivp
 
-    from lubelink.spatial_motion import geometry
+    from lubelink.link.spatial_motion import geometry
 
     N, m = cfg.beam.modes, cfg.mechanism
     form = MassMatrixForm(sine_matrices(sec, N))

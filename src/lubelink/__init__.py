@@ -10,11 +10,11 @@ module             job
 =================  ===========================================================
 ``params``         frozen parameter dataclasses in SI
 ``config``         TOML <-> parameters, scenarios, validation
-``kinematics``     prescribed rigid motion (slider-crank, user motion)
 ``beam``           sine modes, frequencies, modal loads, deflection
 ``film``           Reynolds film pressure and modal film force
 ``contact``        film breakdown, restitution impact, penetration check
-``model``          the modal ODE right-hand side
+``link``           the link's model layer: rigid motion, section, the collar's
+                   faces, the planar and spatial right-hand sides
 ``integrate``      step driver, Bulirsch-Stoer
 ``simulate``       orchestrator: configuration -> Dataset
 ``results``        the variable registry, a run's results (Dataset)
@@ -41,6 +41,9 @@ _SERVED_BY = {
     "Collar": "params", "Contact": "params", "Solver": "params", "Output": "params",
     "ShootingError": "steady", "continuation": "steady", "periodic": "steady",
     "load_sweep": "sweep", "run_sweep": "sweep",
+    "PrescribedMotion": "link.kinematics", "sampled_motion": "link.kinematics",
+    "SpatialPrescribedMotion": "link.spatial_motion", "sampled_spatial_motion": "link.spatial_motion",
+    "Section": "link.section",
 }
 
 

@@ -80,7 +80,7 @@ def start(model, motion=None):
         return None
     from .config import to_toml
     from .integrate.driver import signatures
-    from .model import rhs
+    from .link.model import rhs
 
     p_type = model.params_type
     if id(p_type) in _WARM:  # (by identity: Numba types are interned, hashing this one walks all of it)
@@ -177,7 +177,7 @@ def first_run(model, motion=None, say=None):
     if id(p_type) in _WARM:
         return model
     from .integrate.driver import signatures
-    from .model import rhs
+    from .link.model import rhs
 
     for proc in list(_BACKGROUND):  # reap the ones that ended
         if proc.poll() is not None:
@@ -340,7 +340,7 @@ def main():
     from .config import from_dict, parse_toml
     from .integrate.driver import first_class, signatures
     from .build import build_model
-    from .model import gap, rhs
+    from .link.model import gap, rhs
 
     model = build_model(from_dict(parse_toml(sys.stdin.read(), "<prewarm>")))
     sigs = signatures(model.params_type)

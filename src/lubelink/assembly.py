@@ -1,7 +1,7 @@
 """The model assembled from a configuration: :class:`Model` (parameters, motion, backend, and the
 functions the integrators call) and :func:`build_model`.
 
-The compiled side (the parameter structure, the right-hand side, the gap) is :mod:`lubelink.model`;
+The compiled side (the parameter structure, the right-hand side, the gap) is :mod:`lubelink.link.model`;
 this module is its Python side: it builds the parameters from the validated dataclasses, picks the
 backend, and offers one-state-at-a-time conveniences (impact, film loads, contact force) to the
 contact logic, the results and the paper's figures.
@@ -16,12 +16,14 @@ from functools import cached_property
 
 import numpy as np
 
-from . import _jit, beam, compliant, contact, film, section
+from . import _jit, beam, compliant, contact, film
+
+from .link import section
 from .errors import BackendError
 from .film.jacobian import has_film_jacobian
-from .kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
-from .faces import NO_PHASE, ContactPhase, contact_point, contact_position, in_sustained
-from .model import (Basis, Params, compliant_many, event_with, gap, rhs, rhs_with, sustained_force_many,
+from .link.kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
+from .link.faces import NO_PHASE, ContactPhase, contact_point, contact_position, in_sustained
+from .link.model import (Basis, Params, compliant_many, event_with, gap, rhs, rhs_with, sustained_force_many,
                     sustained_given, thinnest_given)
 from .params import Config
 from .views import kernel_view
@@ -52,7 +54,7 @@ _PARAMS_TYPES: dict = {}
 
 def _change_basis(M, y):
     """``[q, q_dot]`` states ``y`` (shape ``(..., 2N)``) with both halves mapped by the ``(N, N)`` matrix ``M``
-    (the vectorised twin of :func:`lubelink.section.physical`)."""
+    (the vectorised twin of :func:`lubelink.link.section.physical`)."""
     y = np.asarray(y, dtype=float)
     N = M.shape[0]
     return np.concatenate([y[..., :N] @ M.T, y[..., N:] @ M.T], axis=-1)
@@ -81,7 +83,7 @@ def _c(a):
 def make_params(config: Config, table: MotionTable | None, cross_section=None) -> Params:
     """The :class:`Params` of a validated configuration (``table`` None: a placeholder motion).
 
-    ``cross_section``: a :class:`~lubelink.section.Section` replacing the beam's (uniform or
+    ``cross_section``: a :class:`~lubelink.link.section.Section` replacing the beam's (uniform or
     linearly tapered) one; any section but the uniform one is solved in the Galerkin eigenbasis.
     """
     b = config.beam
@@ -175,7 +177,7 @@ class Model:
     def to_physical(self, y):
         """The sine-mode states ``[q, q_dot]`` [m, m/s] of integrator states ``y``, shape ``(..., 2N)``.
 
-        The integrator's state is ``[eta, eta_dot]`` for a variable section (:mod:`lubelink.section`);
+        The integrator's state is ``[eta, eta_dot]`` for a variable section (:mod:`lubelink.link.section`);
         ``y`` itself for a uniform link. :meth:`rhs` and :meth:`gap` take integrator states, the other
         methods and the results sine-mode states.
         """
@@ -201,7 +203,7 @@ class Model:
         return -gX * np.sin(angle) + gY * np.cos(angle)
 
     def kinematics(self, t):
-        """The tuple of :func:`~lubelink.kinematics.motion_at` at ``t`` [s]."""
+        """The tuple of :func:`~lubelink.link.kinematics.motion_at` at ``t`` [s]."""
         if self.motion.table() is None:
             return self.motion.kinematics(t)
         return motion_at(float(t), self.params.motion)
@@ -212,7 +214,7 @@ class Model:
         return self.config.film.enabled or self.config.contact.law != "none"
 
     def jacobian_missing(self, phase=None) -> str:
-        """Why the right-hand side cannot give its Jacobian in ``phase`` (:func:`~lubelink.model.rhs`); ``""`` if it can.
+        """Why the right-hand side cannot give its Jacobian in ``phase`` (:func:`~lubelink.link.model.rhs`); ``""`` if it can.
 
         A stiff method then forms it by finite differences and the run says so.
         """
@@ -310,7 +312,7 @@ class Model:
 
     def compliant_loads(self, t, y, side, v_minus):
         """``(force [N], power [W])`` of the compliant contact at samples ``t`` ``(T,)`` of states ``y``: its
-        resultant and its power on the link (:func:`~lubelink.model.compliant_many`; 0 where ``side`` is 0)."""
+        resultant and its power on the link (:func:`~lubelink.link.model.compliant_many`; 0 where ``side`` is 0)."""
         t = np.ascontiguousarray(t, dtype=float)
         side = np.ascontiguousarray(side, dtype=float)
         v_minus = np.ascontiguousarray(v_minus, dtype=float)
@@ -370,7 +372,7 @@ def _backend(config, motion):
     if not _jit.ENABLED:
         why = "Numba is not installed" if not _jit._WHY.startswith("LUBELINK") else "LUBELINK_DISABLE_JIT is set"
     elif motion.table() is None:
-        hint = getattr(motion, "compile_hint", "lubelink.kinematics.sampled_motion")
+        hint = getattr(motion, "compile_hint", "lubelink.link.kinematics.sampled_motion")
         why = f"the motion is given as Python callables (use {hint} to compile it)"
     elif config.solver.method in ("RK45", "Radau", "BDF", "LSODA"):  # (the loop in Python, the physics compiled)
         return True, f"solver.method = {config.solver.method!r} steps in Python (SciPy) on the compiled right-hand side"

@@ -1,6 +1,6 @@
 """A configuration assembled for integration: the planar model, or the spatial model for ``beam.model = "spatial"``.
 
-The one entry both families share, above both (:mod:`lubelink.assembly`, :mod:`lubelink.spatial_model`),
+The one entry both families share, above both (:mod:`lubelink.assembly`, :mod:`lubelink.link.spatial_model`),
 so that neither imports the other's builder.
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from .assembly import Model, _backend, make_params
 from .errors import BackendError
-from .kinematics import SliderCrank
+from .link.kinematics import SliderCrank
 from .params import Config
 
 __all__ = ["build_model"]
@@ -22,9 +22,9 @@ def build_model(config: Config, motion=None, section=None) -> Model:
     config : Config
         Validated parameters.
     motion : object, optional
-        A motion provider (see :mod:`lubelink.kinematics`); default: the slider-crank of
+        A motion provider (see :mod:`lubelink.link.kinematics`); default: the slider-crank of
         ``config.mechanism``.
-    section : lubelink.section.Section, optional
+    section : lubelink.link.section.Section, optional
         ``A(x)``, ``I(x)`` replacing the beam's (uniform or ``beam.width_ratio``/``height_ratio``
         tapered) section.
 
@@ -34,19 +34,19 @@ def build_model(config: Config, motion=None, section=None) -> Model:
         ``solver.backend = "numba"`` for a configuration the compiled path cannot run.
     """
     if config.beam.model == "spatial":
-        from .spatial_model import build_spatial_model
+        from .spatial_assembly import build_spatial_model
 
         return build_spatial_model(config, motion, section)
     if motion is None:
         motion = SliderCrank(config.mechanism)
     else:
-        from .spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank
+        from .link.spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank
 
         if isinstance(motion, (SpatialPrescribedMotion, SpatialSliderCrank)):
             from .validation import ConfigError
 
             raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' "
-                               "only; set beam.model = 'spatial', or pass a planar motion (lubelink.kinematics)"])
+                               "only; set beam.model = 'spatial', or pass a planar motion (lubelink.link.kinematics)"])
     compiled, note = _backend(config, motion)
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
         raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "

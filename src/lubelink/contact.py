@@ -348,7 +348,7 @@ class Impact(NamedTuple):
 
     ``t`` [s], the contact point ``x_c`` [m], the approach velocities before and after ``v_minus``,
     ``v_plus`` [m/s] (the compliant law: at the start and at the end), the ``side`` (a code of
-    :func:`lubelink.spatial_model.face_of` for the spatial model), and the link's whole sine-mode
+    :func:`lubelink.link.spatial_model.face_of` for the spatial model), and the link's whole sine-mode
     states ``y_before``, ``y_after`` [m, m/s] (the compliant law: at the start and at the end; None
     while it lasts).
     """
@@ -371,7 +371,7 @@ class ContactLogic:
     ``(side, v_minus)`` (None outside contact: a compliant contact, or a sustained contact of
     the restitution law), or the reason to stop (``"film_breakdown"``, ``"chatter"``, ``"penetration"``).
     ``contacts`` lists ``[t_start, t_end, side]`` of every contact phase (``t_end`` NaN while it lasts).
-    A side is +1 or -1, or for the spatial model a code of :func:`lubelink.spatial_model.face_of`
+    A side is +1 or -1, or for the spatial model a code of :func:`lubelink.link.spatial_model.face_of`
     (+-2: the faces normal to ``e3``). ``impacts`` holds an :class:`Impact` per impact (and per
     compliant contact).
 

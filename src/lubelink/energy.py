@@ -2,7 +2,7 @@
 
 The vibration energy of the link relative to its rigid motion, kinetic plus strain, is that of
 the integrator's coordinates: the sine modes of a uniform link (modal mass ``m = rho A L / 2``),
-or the eigen-coordinates ``eta`` of a variable section (:mod:`lubelink.section`, mass ``m_ref``),
+or the eigen-coordinates ``eta`` of a variable section (:mod:`lubelink.link.section`, mass ``m_ref``),
 each a decoupled oscillator of frequency ``W_i``; for the spatial link, of the three directions::
 
     E = m/2 sum_i (eta_dot_i^2 + W_i^2 eta_i^2)       [J]   (lubelink.beam.modal_energy)
@@ -12,11 +12,11 @@ and the modal equations make its rate the sum of the powers of the loads on the 
 forces [N]:
 
 * the rigid motion's inertial loads and gravity (:func:`lubelink.beam.rigid_load`; the spatial
-  link's :func:`lubelink.spatial.rigid_loads`), and the link frame's Euler, centrifugal and
+  link's :func:`lubelink.link.spatial.rigid_loads`), and the link frame's Euler, centrifugal and
   Coriolis accelerations of the deflection (planar: the centrifugal softening ``omega^2 q``;
-  spatial: :func:`lubelink.spatial.frame_terms`, whose Coriolis part does no work);
+  spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work);
 * the structural damping, ``-2 zeta m sum W_i eta_dot_i^2 <= 0``;
-* the film, the asperity contact (on each pair of faces, :mod:`lubelink.faces`), the joint
+* the film, the asperity contact (on each pair of faces, :mod:`lubelink.link.faces`), the joint
   reaction of the collar;
 * the contact force (compliant, or the constraint of a sustained contact), and at every
   restitution impact a jump of ``E``.
@@ -38,15 +38,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import beam, section, spatial, spatial_section
+from . import beam
+
+from .link import section, spatial, spatial_section
 from ._jit import jitable, kernel
 from .beam import wavenumber
-from .faces import asperity_on, film_on
-from .kinematics import motion_at
-from .model import effective_acceleration, stiffened
-from .spatial_model import U2_U3
-from .spatial_model import effective_acceleration as spatial_effective_acceleration
-from .spatial_motion import spatial_motion_at
+from .link.faces import asperity_on, film_on
+from .link.kinematics import motion_at
+from .link.model import effective_acceleration, stiffened
+from .link.spatial_model import U2_U3
+from .link.spatial_model import effective_acceleration as spatial_effective_acceleration
+from .link.spatial_motion import spatial_motion_at
 
 __all__ = ["LOADS", "powers_given", "spatial_powers_given", "powers_many", "impact_terms", "budget", "of_run"]
 
@@ -100,7 +102,7 @@ def _rigid_power(g, y, yq, A_eff, alpha, softening, p):
 def powers_given(kin, yq, p, out):
     """The vibration energy [J] into ``out[0]`` and the powers [W] of :data:`LOADS` into ``out[1:]``.
 
-    ``kin`` the rigid motion (:class:`~lubelink.kinematics.RigidMotion`), ``yq`` the sine-mode state
+    ``kin`` the rigid motion (:class:`~lubelink.link.kinematics.RigidMotion`), ``yq`` the sine-mode state
     of the planar link (of a variable section too). The contact force is not among them (:func:`budget`
     adds it).
     """
@@ -124,8 +126,8 @@ def powers_given(kin, yq, p, out):
 @jitable
 def _spatial_rigid_power(g, y, yq, A, w, al, p):
     """The power [W] of the rigid motion's loads and the frame's accelerations of the deflection on the spatial
-    link (:func:`lubelink.spatial.accelerations`; of a variable section, with the eigenbases ``g``:
-    :func:`lubelink.spatial_section.eigen_accelerations`)."""
+    link (:func:`lubelink.link.spatial.accelerations`; of a variable section, with the eigenbases ``g``:
+    :func:`lubelink.link.spatial_section.eigen_accelerations`)."""
     N = p.basis.modes
     M = 3 * N
     m = p.basis.modal_mass
@@ -157,7 +159,7 @@ def _spatial_rigid_power(g, y, yq, A, w, al, p):
 
 @jitable
 def spatial_powers_given(kin, yq, p, out):
-    """:func:`powers_given` of the spatial link: ``kin`` a :class:`~lubelink.spatial.SpatialRigidMotion`, ``yq``
+    """:func:`powers_given` of the spatial link: ``kin`` a :class:`~lubelink.link.spatial.SpatialRigidMotion`, ``yq``
     the sine-mode state ``(6 N,)``; the film and the asperity contact of every pair of faces the collar guides."""
     N = p.basis.modes
     M = 3 * N

@@ -279,8 +279,8 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     """
     from . import beam, contact, film
     from .config import to_toml
-    from .kinematics import collar_many
-    from .model import thinnest_many
+    from .link.kinematics import collar_many
+    from .link.model import thinnest_many
 
     want = VARIABLES.keys() if variables is None else set(variables)
     model = result.model
@@ -453,7 +453,7 @@ def _u3_faces(model, want, y_state, x_star, V_r):
     """The variables of the spatial model's film pair on the ``u3`` faces: the planar batched kernels on the ``q3`` block."""
     from . import film
     from .film.asperity import asperity_force_many
-    from .model import thinnest_many
+    from .link.model import thinnest_many
 
     p, N, cfg = model.params, model.modes, model.config
     L, compiled = cfg.mechanism.rod_length, model.compiled

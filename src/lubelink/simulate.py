@@ -132,15 +132,15 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     y0 : array_like, shape ``(2N,)``, optional
         State ``[q, q_dot]`` at t = 0 [m, m/s] (default: zero, the paper's). It must not lie
         inside a contact (thinnest film below ``contact.min_film``).
-    section : lubelink.section.Section, optional
+    section : lubelink.link.section.Section, optional
         ``A(x)``, ``I(x)`` of the link replacing the beam's section (ignored with ``model``).
 
     Returns
     -------
     Run
         ``y`` holds the sine-mode states ``[q, q_dot]`` (also for a variable section, which is
-        integrated in its eigen-coordinates, :mod:`lubelink.section`); for ``beam.model =
-        "spatial"`` ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (:mod:`lubelink.spatial_model`). ``status`` is
+        integrated in its eigen-coordinates, :mod:`lubelink.link.section`); for ``beam.model =
+        "spatial"`` ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (:mod:`lubelink.link.spatial_model`). ``status`` is
         ``"complete"``, or ``"film_breakdown"``, ``"chatter"``, ``"penetration"`` (a second point of the pad reaching
         the face in a sustained contact), ``"solver_failure"``, ``"timeout"``, ``"out_of_domain"`` (:func:`domain_exit`) with the
         samples computed so far. ``impacts`` holds one list
@@ -253,12 +253,12 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
     set : dict, optional
         Overrides ``{"section.key": value}``, e.g. ``{"beam.modes": 5}``.
     motion : object, optional
-        A motion provider (:mod:`lubelink.kinematics`) replacing the slider-crank; with
-        ``beam.model = "spatial"`` a spatial one (:mod:`lubelink.spatial_motion`:
+        A motion provider (:mod:`lubelink.link.kinematics`) replacing the slider-crank; with
+        ``beam.model = "spatial"`` a spatial one (:mod:`lubelink.link.spatial_motion`:
         ``sampled_spatial_motion`` or ``SpatialPrescribedMotion``).
     progress : bool or callable
         ``True`` shows a progress bar on stderr; a callable receives the simulated time.
-    section : lubelink.section.Section, optional
+    section : lubelink.link.section.Section, optional
         ``A(x)``, ``I(x)`` of the link (callables or sampled tables) replacing the beam's section.
 
     Returns

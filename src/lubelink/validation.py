@@ -200,11 +200,11 @@ def validate(config: Config) -> Config:
         problems.append(f"mechanism.crank_length = {m.crank_length}: must be shorter than "
                         f"mechanism.rod_length = {m.rod_length}, or the crank cannot turn")
     elif spatial:
-        from .spatial_motion import travel_problems
+        from .link.spatial_motion import travel_problems
 
         problems += travel_problems(m, fm.pad_length, fm.pad_reference)
     else:
-        from .kinematics import collar_travel
+        from .link.kinematics import collar_travel
 
         x_lo, x_hi = collar_travel(m)
         start = -0.5 * fm.pad_length if fm.pad_reference == "centre" else 0.0

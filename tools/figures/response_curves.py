@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 import lubelink
-from lubelink.kinematics import slider_crank
+from lubelink.link.kinematics import slider_crank
 from lubelink.netcdf import save
 
 ZETA = 0.01

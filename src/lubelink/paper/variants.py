@@ -2,7 +2,7 @@
 
 :func:`simulate_variant` runs a configuration with lubelink's corrected equations or with one of
 the printed variants of :data:`VARIANTS`, which are values of the model option
-``model.equations``: the right-hand side itself carries them (:func:`lubelink.model.rhs_given`),
+``model.equations``: the right-hand side itself carries them (:func:`lubelink.link.model.rhs_given`),
 so they run on both backends.
 """
 

@@ -24,7 +24,7 @@ COLLAR_DEPTH = 0.03
 
 def _mechanism_geometry(ds, i, cfg):
     """Points of the mechanism at time sample ``i`` in the fixed frame [m], to scale."""
-    from ..kinematics import slider_crank
+    from ..link.kinematics import slider_crank
 
     m, fm = cfg.mechanism, cfg.film
     t = float(ds.time.values[i])

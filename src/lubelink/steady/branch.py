@@ -71,7 +71,7 @@ _FLAG_MEANINGS = "fold branch_point_plus_one period_doubling_minus_one neimark_s
 def _summary(pmap, value):
     """Per-orbit quantities from the samples of the period map's run (and the spatial model's other directions)."""
     from ..beam import deflection
-    from ..model import thinnest_many
+    from ..link.model import thinnest_many
 
     model = pmap.model
     N = model.modes

@@ -16,7 +16,7 @@ phase, so a change of crank speed changes the period of the map as well as the l
 
 The state is the model's whole integration state: ``[q, q_dot]`` (``2 N``) of the planar model,
 ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``) of the spatial one (``beam.model = "spatial"``,
-:mod:`lubelink.spatial_model`); nothing here depends on which. For the spatial model ``"auto"``
+:mod:`lubelink.link.spatial_model`); nothing here depends on which. For the spatial model ``"auto"``
 takes the monodromy matrix by finite differences even in a smooth period: the variational
 equations are integrated in Python by an explicit method, whose step the axial modes (16 krad/s
 and up, a fixed-fixed bar) limit, while the map itself runs compiled (the configuration's

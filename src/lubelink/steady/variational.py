@@ -5,7 +5,7 @@ For ``dy/dt = f(t, y)`` the Jacobian of the flow, ``Phi(t) = dy(t)/dy(t0)``, sol
 the monodromy matrix. :func:`flow_with_jacobian` integrates the ``n + n^2`` equations together
 with one of lubelink's integrators, through the generic driver, with ``J`` from the right-hand side
 itself where it gives it (an ``out`` of ``n + n^2`` entries, as the stiff method asks:
-:func:`lubelink.model.rhs`), else from central differences of the right-hand side (exact, up to
+:func:`lubelink.link.model.rhs`), else from central differences of the right-hand side (exact, up to
 rounding, for a right-hand side linear in ``y``).
 
 Only ``rhs(t, y, out, p)`` is known here, as in :mod:`lubelink.integrate`: no physics.

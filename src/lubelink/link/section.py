@@ -29,8 +29,8 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from ._jit import jitable
-from .beam import wavenumbers
+from .._jit import jitable
+from ..beam import wavenumbers
 
 __all__ = ["Section", "GalerkinTable", "taper", "galerkin_matrices", "galerkin_table", "physical", "state",
            "eigen_accelerations", "eigen_rate_bound", "eigen_restitution_jump"]

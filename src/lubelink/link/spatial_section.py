@@ -2,7 +2,7 @@
 
 For a section ``A(x)``, ``I_z(x)``, ``I_y(x)`` the sine modes ``s_n = sin(beta_n x)`` of the three
 directions are no longer orthogonal. Projecting ``rho A a_d + (stiffness) u_d = f_d`` on them,
-with ``a`` the acceleration of :mod:`lubelink.spatial` and ``Q = (q1, q2, q3)`` the sine
+with ``a`` the acceleration of :mod:`lubelink.link.spatial` and ``Q = (q1, q2, q3)`` the sine
 coordinates of ``(u1, u2, u3)``, every inertia term is ``rho A`` times a displacement times a
 function of time only, so all of them project on the one mass matrix ``M``:
 
@@ -14,16 +14,16 @@ function of time only, so all of them project on the one mass matrix ``M``:
     r0_n   = int rho A s_n dx,          r1_n = int rho A x s_n dx
 
 (the cross products act on the direction index, ``M`` on the mode index; ``g`` the
-:func:`lubelink.spatial.axis_acceleration`). Each direction ``d`` is integrated in its own
+:func:`lubelink.link.spatial.axis_acceleration`). Each direction ``d`` is integrated in its own
 eigenbasis ``Q_d = Phi_d eta_d``, ``K_d Phi_d = M Phi_d diag(W_d^2)``,
-``Phi_d^T M Phi_d = m_ref I`` (:func:`lubelink.section.eigenbasis`). Multiplying the equation of
+``Phi_d^T M Phi_d = m_ref I`` (:func:`lubelink.link.section.eigenbasis`). Multiplying the equation of
 direction ``d`` by ``Phi_d^T / m_ref``, and ``Phi_d^T M / m_ref = Phi_d^-1``:
 
     eta_d_tt = -W_d^2 eta_d - 2 zeta W_d eta_d_t + Phi_d^T (F_d - A_Od r0 - g_d r1) / m_ref
                - Phi_d^-1 [2 w x Q_t + alpha x Q + w x (w x Q)]_d
 
 the frame terms computed mode by mode on the sine coordinates ``Q = Phi eta`` exactly as for
-the uniform link (:func:`lubelink.spatial.frame_terms`), then carried into the eigenbasis of
+the uniform link (:func:`lubelink.link.spatial.frame_terms`), then carried into the eigenbasis of
 ``d`` (the cross-direction blocks are ``Phi_d^-1 Phi_j = Phi_d^T M Phi_j / m_ref``). The linear
 part of the state is again ``diag(W^2)``, the ``3 N`` eigenvalues: what the exponential
 integrator treats exactly. A uniform link keeps the sine-mode path (:func:`physical` is the
@@ -37,9 +37,9 @@ from typing import NamedTuple
 import numpy as np
 
 from . import section
-from ._jit import jitable
+from .._jit import jitable
 from .spatial import axis_acceleration, frame_terms
-from .beam import wavenumbers
+from ..beam import wavenumbers
 
 __all__ = ["SpatialGalerkin", "axial_stiffness", "spatial_galerkin", "physical", "state", "change_basis",
            "eigen_accelerations"]
@@ -50,7 +50,7 @@ class SpatialGalerkin(NamedTuple):
 
     ``phi`` ``(3, N, N)``: ``Q_d = phi[d] @ eta_d`` (directions axial, in-plane, out-of-plane);
     ``phi_inv`` ``(3, N, N)``: ``eta_d = phi_inv[d] @ Q_d``; ``r0`` [kg], ``r1`` [kg m]: the
-    rigid-load vectors of the sine modes (:func:`lubelink.section.galerkin_matrices`).
+    rigid-load vectors of the sine modes (:func:`lubelink.link.section.galerkin_matrices`).
     """
 
     phi: np.ndarray
@@ -61,7 +61,7 @@ class SpatialGalerkin(NamedTuple):
 
 def axial_stiffness(sec, youngs_modulus, modes, rod_length):
     """``K1_mn = int E A s_m' s_n' dx`` [N/m] of the sine modes (the fixed-fixed bar), by the quadrature of
-    :func:`lubelink.section.quadrature`."""
+    :func:`lubelink.link.section.quadrature`."""
     x, w = section.quadrature(rod_length, modes)
     A = section.sampled(sec, "area", x, rod_length)
     beta = wavenumbers(modes, rod_length)
@@ -73,7 +73,7 @@ def axial_stiffness(sec, youngs_modulus, modes, rod_length):
 def spatial_galerkin(sec, youngs_modulus, density, modes, rod_length, inplane=None):
     """``(W [rad/s] (3 N,), m_ref [kg], SpatialGalerkin)`` of the section ``sec`` (module docstring).
 
-    ``inplane``: the ``(omega_n, m_ref, GalerkinTable)`` of :func:`lubelink.section.galerkin_table` for
+    ``inplane``: the ``(omega_n, m_ref, GalerkinTable)`` of :func:`lubelink.link.section.galerkin_table` for
     ``I_z`` when already computed. Raises ValueError naming a field of ``sec`` that is missing or not
     positive and finite on ``[0, L]``.
     """
@@ -134,7 +134,7 @@ def eigen_accelerations(g, y, yq, W, zeta, a_O, w, al, F, m_ref, out):
 
     ``y``: the eigen-coordinate state ``(6 N,)``; ``yq``: the same state in sine coordinates
     (:func:`physical`); ``W`` ``(3 N,)`` the eigenvalues [rad/s]; ``a_O``, ``w``, ``al`` as in
-    :func:`lubelink.spatial.accelerations`; ``F`` ``(3 N,)`` the sine-mode forces [N] (may alias
+    :func:`lubelink.link.spatial.accelerations`; ``F`` ``(3 N,)`` the sine-mode forces [N] (may alias
     ``out[3N:]``: read fully first); ``m_ref`` [kg].
     """
     N = W.shape[0] // 3

@@ -23,14 +23,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import beam, compliant, contact, film, section
-from ._jit import jitable, kernel
-from .errors import BackendError
+from .. import beam, compliant, contact, film
+
+from . import section
+from .._jit import jitable, kernel
+from ..errors import BackendError
 from .faces import (ContactPhase, compliant_jacobian_on, compliant_on, face_jacobian, face_loads, in_sustained,
                     phase_side, sustained_on, thinnest_on)
 from .kinematics import MotionTable, collar_acceleration, motion_at
-from .params import CHOICES
-from .beam import wavenumber
+from ..params import CHOICES
+from ..beam import wavenumber
 
 __all__ = ["Params", "Basis", "ContactPhase", "rhs", "gap", "rhs_given", "BackendError"]
 
@@ -53,7 +55,7 @@ class Params(NamedTuple):
     The sections are :func:`~lubelink.views.kernel_view` s of the dataclasses (same field
     names); ``basis``, ``pad`` and ``motion`` are tables derived from them; ``phase`` is the
     compliant contact of the segment; ``galerkin`` the eigenbasis of a variable section
-    (:class:`~lubelink.section.GalerkinTable`; None for a uniform link, whose state is the sine
+    (:class:`~lubelink.link.section.GalerkinTable`; None for a uniform link, whose state is the sine
     modes themselves); ``spatial`` the table of the spatial model (None for the planar model,
     whose kernels never read it); ``rough`` the roughness with the asperity contact (None for smooth
     surfaces: the kernels are then compiled without it).
@@ -70,13 +72,13 @@ class Params(NamedTuple):
     motion: MotionTable
     phase: ContactPhase | None
     galerkin: section.GalerkinTable | None = None
-    spatial: tuple | None = None  # lubelink.spatial_model.SpatialTable
+    spatial: tuple | None = None  # lubelink.link.spatial_model.SpatialTable
     rough: float | None = None  # film.roughness [m] with the asperity contact, None: smooth (compiled out)
 
 
 @jitable(inline=True)
 def rhs_given(t, kin, y, out, p):
-    """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (:class:`~lubelink.kinematics.RigidMotion`)."""
+    """``dy/dt`` into ``out`` for the rigid motion ``kin`` at ``t`` (:class:`~lubelink.link.kinematics.RigidMotion`)."""
     omega, alpha, x_star, V_r, reaction = kin.omega, kin.alpha, kin.x_star, kin.V_r, kin.reaction
     N = p.basis.modes
     L = p.basis.rod_length
@@ -131,7 +133,7 @@ def stiffened(equations):
 
 @jitable
 def _eigen_accelerations(g, y, F, A_eff, alpha, omega, basis, zeta, stiffening, out):
-    """:func:`~lubelink.section.eigen_accelerations` of the eigenbasis ``g`` (None: a uniform link, nothing)."""
+    """:func:`~lubelink.link.section.eigen_accelerations` of the eigenbasis ``g`` (None: a uniform link, nothing)."""
     if g is None:
         return
     section.eigen_accelerations(g, y, F, A_eff, alpha, omega, basis.omega_n, zeta, basis.modal_mass, stiffening, out)
@@ -207,8 +209,8 @@ def jacobian_given(t, kin, y, J, p):
     The uniform planar link (no eigenbasis) outside a sustained contact, with the film of
     :func:`~lubelink.film.jacobian.has_film_jacobian`: ``dq/dt = q_dot`` gives the identity block;
     the modal oscillators ``-(omega_n^2 - omega^2)`` and ``-2 zeta omega_n`` on the diagonals;
-    the film and the asperity contact (:func:`~lubelink.faces.face_jacobian`) and the compliant contact
-    of a contact phase (:func:`~lubelink.faces.compliant_jacobian_on`) divided by the modal mass. The joint
+    the film and the asperity contact (:func:`~lubelink.link.faces.face_jacobian`) and the compliant contact
+    of a contact phase (:func:`~lubelink.link.faces.compliant_jacobian_on`) divided by the modal mass. The joint
     reaction, gravity and the rigid-motion load do not depend on the state.
     """
     omega, x_star, V_r = kin.omega, kin.x_star, kin.V_r

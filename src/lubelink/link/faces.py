@@ -6,10 +6,10 @@ velocities ``q_t`` [m, m/s] whose deflection ``u = sum q_n sin(beta_n x)`` close
 pad of ``width`` [m]. The planar link has one pair (``u2``, width ``b``); the spatial link has
 ``u2`` and, with ``film.faces = "u2+u3"``, ``u3`` (width ``h``). Both models call these
 functions on their blocks, so the film, the asperity contact, the compliant and the sustained
-contact, and their Jacobians are written once (:mod:`lubelink.model`, :mod:`lubelink.spatial_model`).
+contact, and their Jacobians are written once (:mod:`lubelink.link.model`, :mod:`lubelink.link.spatial_model`).
 
 The modal forces ``F`` [N] are added to, never overwritten; ``p`` is the parameter structure
-(:class:`lubelink.model.Params`).
+(:class:`lubelink.link.model.Params`).
 """
 
 from __future__ import annotations
@@ -18,12 +18,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import compliant, contact, film
-from ._jit import jitable
-from .beam import deflection_at, wavenumber
-from .film import asperity
-from .film import jacobian as film_jacobian
-from .params import CHOICES
+from .. import compliant, contact, film
+from .._jit import jitable
+from ..beam import deflection_at, wavenumber
+from ..film import asperity
+from ..film import jacobian as film_jacobian
+from ..params import CHOICES
 
 __all__ = ["ContactPhase", "NO_PHASE", "PAD_START", "PAD_END", "contact_point", "contact_position", "phase_side",
            "in_sustained", "film_on", "asperity_on", "face_loads", "face_jacobian", "compliant_on",
@@ -40,7 +40,7 @@ class ContactPhase(NamedTuple):
     rides on the collar (sustained contact, :func:`lubelink.contact.constraint_force`) at
     ``point``: the material point of the link [m] where the contact began inside the pad, or
     :data:`PAD_START` / :data:`PAD_END` for a pad edge (which slides with the collar). The spatial
-    model codes the pair in the side (:func:`lubelink.spatial_model.face_of`).
+    model codes the pair in the side (:func:`lubelink.link.spatial_model.face_of`).
     """
 
     side: float

@@ -8,7 +8,7 @@ The mechanism is the planar one of ``[mechanism]`` (crank ``OA``, link ``L``, cr
   ``O = OA (cos phi, sin phi cos tau, sin phi sin tau)``, ``phi = omega0 t``;
 * ``slider_offset`` ``z_P`` [m]: the slider runs on the line ``(s, 0, z_P)``.
 
-Both 0: the planar slider-crank, whose kinematics :func:`lubelink.spatial.slider_crank_rssp`
+Both 0: the planar slider-crank, whose kinematics :func:`lubelink.link.spatial.slider_crank_rssp`
 then reproduces (tests/test_spatial.py). :class:`SpatialMotion` is the table compiled code
 reads, :func:`spatial_motion_at` the rigid motion at a time, :class:`SpatialSliderCrank` the
 provider the spatial model and its results use, :func:`travel_problems` the validation of a
@@ -16,7 +16,7 @@ geometry over one crank turn.
 
 A motion of the user's (docs/spatial.md, "A motion of your own") replaces the slider-crank:
 :class:`SpatialPrescribedMotion` from callables of time (run by the ``numpy`` backend, like the
-planar :class:`lubelink.kinematics.PrescribedMotion`), or :func:`sampled_spatial_motion` from
+planar :class:`lubelink.link.kinematics.PrescribedMotion`), or :func:`sampled_spatial_motion` from
 samples, C2 cubic splines in the same :class:`SpatialMotion` table (``knots``, ``coef``), so that
 the one :func:`spatial_motion_at` serves both and the run is compiled.
 """
@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import jitable
+from .._jit import jitable
 from .kinematics import cubic_piece, knot_interval
 from .spatial import SpatialRigidMotion, _cross, _dot, _frame, rssp_tuples
 
@@ -78,10 +78,10 @@ def geometry(mechanism) -> SpatialMotion:
 
 @jitable
 def spatial_motion_at(t, m):
-    """Rigid motion of the link at ``t`` [s] for the table ``m``: :func:`~lubelink.spatial.slider_crank_rssp`,
+    """Rigid motion of the link at ``t`` [s] for the table ``m``: :func:`~lubelink.link.spatial.slider_crank_rssp`,
     or the splines of a sampled motion (:func:`sampled_tuples`).
 
-    Returns a :class:`~lubelink.spatial.SpatialRigidMotion` whose vectors are 3-tuples of floats
+    Returns a :class:`~lubelink.link.spatial.SpatialRigidMotion` whose vectors are 3-tuples of floats
     (nothing is allocated per call).
     """
     return _spatial_motion(t, m, m.knots, m.coef)
@@ -143,7 +143,7 @@ def _collar_acceleration(t, m, knots, coef):
 
 
 def _samples(rows) -> SpatialRigidMotion:
-    """The :class:`~lubelink.spatial.SpatialRigidMotion` of ``rows`` (one per time) as arrays over time
+    """The :class:`~lubelink.link.spatial.SpatialRigidMotion` of ``rows`` (one per time) as arrays over time
     (vectors shape ``(T, 3)``)."""
     return SpatialRigidMotion(*(np.array(column, dtype=float) for column in zip(*rows)))
 
@@ -159,7 +159,7 @@ class SpatialSliderCrank:
         return geometry(self.mechanism)
 
     def at(self, t):
-        """The :class:`~lubelink.spatial.SpatialRigidMotion` of :func:`spatial_motion_at` at one time ``t`` [s]."""
+        """The :class:`~lubelink.link.spatial.SpatialRigidMotion` of :func:`spatial_motion_at` at one time ``t`` [s]."""
         return spatial_motion_at(float(t), self.table())
 
     def __call__(self, t) -> SpatialRigidMotion:
@@ -173,7 +173,7 @@ def collar_travel(mechanism, samples=721):
     """Smallest and largest collar position over a crank turn [m] (NaN: the link cannot reach the
     slider line, or lies in the guide plane, somewhere in the turn), at ``samples`` crank angles.
 
-    Remembered by the mechanism (as :func:`lubelink.kinematics.collar_travel`): a sweep validates
+    Remembered by the mechanism (as :func:`lubelink.link.kinematics.collar_travel`): a sweep validates
     each point more than once.
     """
     g = geometry(mechanism)._replace(crank_speed=1.0)
@@ -302,7 +302,7 @@ class SpatialPrescribedMotion:
     e2: object = None
 
     #: What the backend's note suggests for a motion that cannot be compiled.
-    compile_hint = "lubelink.spatial_motion.sampled_spatial_motion"
+    compile_hint = "lubelink.link.spatial_motion.sampled_spatial_motion"
 
     def __post_init__(self):
         self.at(0.0)  # every value's shape and finiteness, the frame's orthonormality: at t = 0
@@ -316,7 +316,7 @@ class SpatialPrescribedMotion:
         return None
 
     def at(self, t):
-        """The :class:`~lubelink.spatial.SpatialRigidMotion` at one time ``t`` [s], from the callables (``v_O``,
+        """The :class:`~lubelink.link.spatial.SpatialRigidMotion` at one time ``t`` [s], from the callables (``v_O``,
         ``O`` NaN)."""
         t = float(t)
         where = f"SpatialPrescribedMotion at t = {t:g} s"
@@ -431,11 +431,11 @@ def motion_problems(motion, config):
     """
     if not isinstance(motion, (SpatialPrescribedMotion, SpatialSliderCrank)):
         return [f"motion = {type(motion).__name__}: beam.model = 'spatial' needs a spatial motion "
-                "(lubelink.spatial_motion.SpatialPrescribedMotion or sampled_spatial_motion); a planar one "
-                "(lubelink.kinematics) drives beam.model = 'planar'"]
+                "(lubelink.link.spatial_motion.SpatialPrescribedMotion or sampled_spatial_motion); a planar one "
+                "(lubelink.link.kinematics) drives beam.model = 'planar'"]
     if isinstance(motion, SpatialSliderCrank):
         return []
-    from .params import sample_times
+    from ..params import sample_times
 
     s = config.solver
     t = sample_times(s)

@@ -22,8 +22,8 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from ._jit import jitable, kernel
-from .params import Mechanism
+from .._jit import jitable, kernel
+from ..params import Mechanism
 
 __all__ = [
     "RigidMotion",
@@ -50,7 +50,7 @@ CHANNELS = ("A_O2", "omega", "alpha", "x_star", "V_r", "reaction", "angle")
 class RigidMotion(NamedTuple):
     """Rigid motion of the link at one or more times (floats at one time: :func:`motion_at`).
 
-    The spatial link's :class:`~lubelink.spatial.SpatialRigidMotion` has the same layout: ``omega``,
+    The spatial link's :class:`~lubelink.link.spatial.SpatialRigidMotion` has the same layout: ``omega``,
     ``alpha``, ``x_star``, ``V_r`` at positions 1-4, so that what reads the collar reads both.
 
     Attributes

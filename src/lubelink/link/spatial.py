@@ -31,8 +31,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._jit import jitable
-from .beam import rigid_load, wavenumbers
+from .._jit import jitable
+from ..beam import rigid_load, wavenumbers
 
 __all__ = ["SpatialRigidMotion", "frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations",
            "deflections"]
@@ -162,7 +162,7 @@ def _frame(a, e1, e2, e3):
 class SpatialRigidMotion(NamedTuple):
     """Rigid motion of the spatial link at one time (or at samples: arrays over time in front).
 
-    The layout of the planar :class:`~lubelink.kinematics.RigidMotion`: ``omega``, ``alpha``,
+    The layout of the planar :class:`~lubelink.link.kinematics.RigidMotion`: ``omega``, ``alpha``,
     ``x_star``, ``V_r`` at positions 1-4.
 
     Attributes

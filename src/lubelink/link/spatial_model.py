@@ -1,0 +1,257 @@
+"""The spatial model (``beam.model = "spatial"``): its compiled right-hand side and gap.
+
+State ``y = [q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``; :mod:`lubelink.link.spatial`): axial ``u1``,
+in-plane ``u2`` and out-of-plane ``u3`` sine modes of a uniform link under the rigid motion of
+the spatial slider-crank (:mod:`lubelink.link.spatial_motion`). The equations are
+:func:`lubelink.link.spatial.accelerations`; the collar's film (and the asperity contact) act on the
+``u2`` faces exactly as in the planar model, the same functions called on the ``q2`` block
+(:func:`lubelink.film.modal_film_force`, :func:`lubelink.link.faces.thinnest_on`,
+:func:`lubelink.contact.gap_rate`), and with ``film.faces = "u2+u3"`` a second pair on the ``u3``
+faces, the same functions on the ``q3`` block (pad width ``beam.height``); the gap is the thinner
+pair's (docs/spatial.md, "Film pairs"). The parameters are the planar
+:class:`~lubelink.link.model.Params` (its basis: the ``N`` in-plane modes) with :class:`SpatialTable`
+in ``Params.spatial``.
+
+Contact on the pair whose film broke (side codes of :func:`face_of`: +-1 the ``u2`` faces, +-2
+the ``u3`` faces): the compliant force on its block, the restitution impacts (the jump of its
+block's velocities: the mass matrix is diagonal across the directions), and after a Zeno
+sequence the sustained contact (:func:`lubelink.link.faces.sustained_on` on its block), all as in
+the planar model.
+A motion of the user's (:class:`~lubelink.link.spatial_motion.SpatialPrescribedMotion`, sampled or
+callables) replaces the slider-crank.
+
+A variable section (the taper keys, or ``section=``) is integrated in the three Galerkin
+eigenbases of :mod:`lubelink.link.spatial_section` (``SpatialTable.galerkin``; ``Params.galerkin`` is
+the in-plane one, which the impact and the gap's rate bound read); a uniform link keeps the
+sine-mode kernels. Not supported (refused by the validation): a collar mass, the paper's printed
+equations, a variable section with the ``u3`` film pair.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .. import contact
+from .._jit import jitable, kernel
+from ..params import CHOICES
+from . import section, spatial, spatial_section
+from .faces import ContactPhase, compliant_on, face_loads, in_sustained, sustained_on, thinnest_on
+from .spatial_motion import SpatialMotion, collar_acceleration_at, spatial_motion_at
+
+__all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
+
+#: ``film.faces``'s code of the second film pair (on the ``u3`` faces).
+U2_U3 = CHOICES["film.faces"].index("u2+u3")
+
+
+class SpatialTable(NamedTuple):
+    """What the spatial kernels read beyond the planar parameters.
+
+    ``W``: the ``3 N`` natural frequencies ``[axial, in-plane, out-of-plane]`` [rad/s]
+    (:func:`lubelink.link.spatial.frequencies`; of a variable section the Galerkin eigenvalues);
+    ``motion``: the :class:`SpatialMotion`; ``galerkin``: the eigenbases of a variable section
+    (:class:`~lubelink.link.spatial_section.SpatialGalerkin`; None for a uniform link).
+    """
+
+    W: np.ndarray
+    motion: SpatialMotion
+    galerkin: spatial_section.SpatialGalerkin | None = None
+
+
+@jitable
+def effective_acceleration(A_O, e1, e2, e3, gravity):
+    """``A_O - g`` in link-frame components [m/s^2] (a 3-tuple): gravity ``(g_X, g_Y, 0)`` of the fixed frame as an inertial load."""
+    gX, gY = gravity
+    return (A_O[0] - (gX * e1[0] + gY * e1[1]), A_O[1] - (gX * e2[0] + gY * e2[1]),
+            A_O[2] - (gX * e3[0] + gY * e3[1]))
+
+
+@jitable
+def face_of(code):
+    """``(block, side)`` of a contact's side code: ``+-1`` the ``u2`` faces (block 1 of the state), ``+-2`` the ``u3`` faces (block 2).
+
+    The side (+1, -1) is that of the planar functions on the block: +1 the film ``H/2 - u``, -1 ``H/2 + u``.
+    """
+    if code > 1.5:
+        return 2, 1.0
+    if code < -1.5:
+        return 2, -1.0
+    return 1, code
+
+
+@jitable
+def _compliant_spatial(phase, y, x_star, V_r, p, F):
+    """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing) on its face's block."""
+    if phase is None:
+        return
+    if not contact.is_compliant(p.contact.law) or phase.side == 0.0:
+        return
+    k, side = face_of(phase.side)
+    N = p.basis.modes
+    M = 3 * N
+    compliant_on(ContactPhase(side, phase.v_minus, phase.point), y[k * N:(k + 1) * N], y[M + k * N:M + (k + 1) * N],
+                 x_star, V_r, p, p.beam.height if k == 2 else p.beam.width, F[k * N:(k + 1) * N])
+
+
+@jitable(inline=True)
+def spatial_rhs_given(kin, y, out, p):
+    """``dy/dt`` into ``out`` for the rigid motion ``kin`` (:class:`~lubelink.link.spatial.SpatialRigidMotion`), without a sustained contact."""
+    _rhs_in(p.spatial.galerkin, kin, y, out, p)
+
+
+@jitable
+def _rhs_in(g, kin, y, out, p):
+    """:func:`spatial_rhs_given` for the eigenbases ``g`` (None, a uniform link: the sine-mode equations; the
+    branches of the other case are pruned when compiled, so a uniform link runs the code it always ran)."""
+    A_O, w, al = kin.A_O, kin.omega, kin.alpha
+    x_star, V_r = kin.x_star, kin.V_r
+    N = p.basis.modes
+    M = 3 * N
+    L = p.basis.rod_length
+    if g is None:
+        yq = y
+    else:
+        yq = spatial_section.physical(g, y)  # the sine-mode state
+    F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
+    F[:] = 0.0
+    face_loads(yq[N:2 * N], yq[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
+    if p.film.faces == U2_U3:  # the u3 faces: pad width h
+        face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
+    _compliant_spatial(p.phase, yq, x_star, V_r, p, F)
+    A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
+    if g is None:
+        spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
+    else:
+        spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
+                                            p.basis.modal_mass, out)
+
+
+@jitable
+def _sustained_spatial(phase, t, kin, y, out, p):
+    """Apply the sustained contact ``phase`` to ``out`` (``dy/dt`` without it) on its face's block; return its force [N].
+
+    :func:`lubelink.link.faces.sustained_on` on the block, the collar acceleration of the spatial
+    motion, the Baumgarte rate the block's highest frequency (None: compiles to nothing).
+    """
+    if phase is None:
+        return 0.0
+    k, side = face_of(phase.side)
+    N = p.basis.modes
+    M = 3 * N
+    A_r = collar_acceleration_at(t, p.spatial.motion)
+    return sustained_on(y[k * N:(k + 1) * N], y[M + k * N:M + (k + 1) * N], out[M + k * N:M + (k + 1) * N],
+                        kin.x_star, kin.V_r, A_r, p, side, phase.point, p.spatial.W[(k + 1) * N - 1])
+
+
+@kernel
+def spatial_rhs(t, y, out, p):
+    """``dy/dt`` of the spatial modal equations into ``out`` (``y``, ``out`` shape ``(6 N,)``), a sustained contact included."""
+    kin = spatial_motion_at(t, p.spatial.motion)
+    spatial_rhs_given(kin, y, out, p)
+    if in_sustained(p.phase, p.contact.law):
+        _sustained_spatial(p.phase, t, kin, y, out, p)
+
+
+@jitable(inline=True)
+def spatial_gap_given(kin, y, p):
+    """``(gap, rate, bound)``: the thinnest film over the face pairs minus ``min_film`` [m], its rate and a bound [m/s].
+
+    The films of the ``u2`` faces, and with ``film.faces = "u2+u3"`` those of the ``u3`` faces
+    (the same functions on the ``q3`` block): the gap is the smaller. The bound is the larger of
+    the pairs' :func:`lubelink.contact.gap_rate_bound`, each direction's modes softened by the
+    whole spin ``|w|`` (the most any direction's centrifugal term softens them); of a variable
+    section (``u2`` faces only), :func:`lubelink.link.section.eigen_rate_bound` of the in-plane eigenmodes alike.
+    """
+    return _gap_in(p.spatial.galerkin, kin, y, p)
+
+
+@jitable
+def _gap_in(g, kin, y, p):
+    """:func:`spatial_gap_given` for the eigenbases ``g`` (None: a uniform link; as :func:`_rhs_in`)."""
+    N = p.basis.modes
+    M = 3 * N
+    L = p.basis.rod_length
+    if g is None:
+        yq = y
+    else:
+        yq = spatial_section.physical(g, y)
+    q2, q2_t = yq[N:2 * N], yq[M + N:M + 2 * N]
+    w = kin.omega
+    V_r = kin.V_r
+    xi, x_c, at_edge, side = thinnest_on(kin.x_star, q2, p)
+    spin = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    rate = contact.gap_rate(q2, q2_t, x_c, at_edge, side, V_r, L)
+    if g is None:
+        bound = contact.gap_rate_bound(q2, q2_t, p.basis.omega_n, spin, V_r, L)
+    else:  # the in-plane eigen-coordinates [eta2, eta2_t] and eigenbasis p.galerkin
+        bound = section.eigen_rate_bound(p.galerkin, np.concatenate((y[N:2 * N], y[M + N:M + 2 * N])),
+                                         p.basis.omega_n, spin, V_r)
+    if p.film.faces == U2_U3 and g is None:  # (a variable section with the u3 pair is refused)
+        q3, q3_t = y[2 * N:M], y[M + 2 * N:]
+        xi3, x_c3, at_edge3, side3 = thinnest_on(kin.x_star, q3, p)
+        bound = max(bound, contact.gap_rate_bound(q3, q3_t, p.spatial.W[2 * N:], spin, V_r, L))
+        if xi3 < xi:
+            xi = xi3
+            rate = contact.gap_rate(q3, q3_t, x_c3, at_edge3, side3, V_r, L)
+    return xi - p.contact.min_film, rate, bound
+
+
+@jitable
+def _thinnest_over_pairs(g, kin, y, p):
+    """The thinnest film over the pad on the face pairs :func:`spatial_gap_given` watches [m] (``g`` as there)."""
+    N = p.basis.modes
+    yq = y if g is None else spatial_section.physical(g, y)
+    xi = thinnest_on(kin.x_star, yq[N:2 * N], p)[0]
+    if p.film.faces == U2_U3 and g is None:
+        xi = min(xi, thinnest_on(kin.x_star, y[2 * N:3 * N], p)[0])
+    return xi
+
+
+@jitable
+def _sustained_force(phase, t, kin, y, p):
+    """The force [N] of the sustained contact ``phase`` (None: compiles to nothing)."""
+    if phase is None:
+        return 0.0
+    out = np.empty(y.shape[0])
+    spatial_rhs_given(kin, y, out, p)
+    return _sustained_spatial(phase, t, kin, y, out, p)
+
+
+@jitable
+def _sustained_event(phase, t, kin, y, p):
+    """The event of a sustained contact ``phase`` (None: compiles to nothing), as the planar model's
+    (:func:`lubelink.link.model._sustained_event`): its force [N], which ends it at zero; or, once the film
+    anywhere on the pad of either face pair is :data:`~lubelink.contact.PENETRATION` ``min_film`` below
+    ``min_film``, that depth times the modal stiffness of the held block's highest mode [N] (<= 0)."""
+    if phase is None:
+        return 0.0
+    force = _sustained_force(phase, t, kin, y, p)
+    below = _thinnest_over_pairs(p.spatial.galerkin, kin, y, p) - (1.0 - contact.PENETRATION) * p.contact.min_film
+    if below > 0.0:
+        return force
+    k = face_of(phase.side)[0]
+    w = p.spatial.W[(k + 1) * p.basis.modes - 1]
+    return below * p.basis.modal_mass * w * w
+
+
+@kernel
+def spatial_gap(t, y, p):
+    """The event of the spatial model at ``t`` [s]: :func:`spatial_gap_given`, or in a sustained contact
+    ``(force [N], 0, inf)`` (it ends when the force falls to zero)."""
+    kin = spatial_motion_at(t, p.spatial.motion)
+    if in_sustained(p.phase, p.contact.law):
+        return _sustained_event(p.phase, t, kin, y, p), 0.0, np.inf
+    return spatial_gap_given(kin, y, p)
+
+
+@kernel
+def spatial_sustained_many(t, y, side, point, p):
+    """Force [N] of the sustained contact of side code ``side[i]`` (0: none, force 0) at ``point[i]`` at many samples ``t`` ``(T,)``, ``y`` ``(T, 6N)``."""
+    out = np.zeros(t.shape[0])
+    for i in range(t.shape[0]):
+        if side[i] != 0.0:
+            out[i] = _sustained_force(ContactPhase(side[i], 0.0, point[i]), t[i],
+                                      spatial_motion_at(t[i], p.spatial.motion), y[i], p)
+    return out
