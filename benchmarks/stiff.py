@@ -9,7 +9,9 @@ damps at 2.6e6 1/s) and ``contact.law = "compliant"``, 2 s simulated. Prints, in
 * the previous default (the exponential Runge-Kutta method) and SciPy's Radau (finite-difference
   Jacobian; the same compiled right-hand side, the method run as Python) on ``--short`` seconds, scaled to 2 s (both take minutes for 2 s);
 * the accuracy at the default tolerance: the largest difference of ``u2_mid`` and of the thinnest
-  film to RODAS4 at rtol 1e-10, atol 1e-13.
+  film to RODAS4 at rtol 1e-10, atol 1e-13;
+* the spatial link (``spatial-slider-crank``, a squeeze film at 40 um, 3 modes in each direction,
+  0.1 s): "auto" (RODAS4 with the spatial Jacobian) against the exponential method and SciPy's Radau.
 
 Usage::
 
@@ -29,15 +31,15 @@ CASE = "lubricated"
 BASE = {"film.clearance": 1e-4, "contact.law": "compliant", "solver.t_end": 2.0}
 
 
-def timed(settings, repeats):
+def timed(settings, repeats, case=CASE):
     """``(median seconds, dataset)`` of warm ``simulate()`` calls."""
     import lubelink
 
-    lubelink.simulate(CASE, set=settings)  # compile or load the kernels, warm the caches
+    lubelink.simulate(case, set=settings)  # compile or load the kernels, warm the caches
     times, ds = [], None
     for _ in range(repeats):
         t0 = time.perf_counter()
-        ds = lubelink.simulate(CASE, set=settings)
+        ds = lubelink.simulate(case, set=settings)
         times.append(time.perf_counter() - t0)
     return statistics.median(times), ds
 
@@ -100,5 +102,23 @@ def main():
             print(f"target {n} modes <= {target:g} s: {fast[n]:.3f} s, {'met' if fast[n] <= target else 'not met'}")
 
 
+def spatial(repeats):
+    """The spatial link with a stiff squeeze film: auto (rodas) against the exponential method and Radau."""
+    base = {"film.model": "wedge+squeeze", "film.clearance": 4e-5, "film.viscosity": 0.05, "solver.t_end": 0.1,
+            "contact.law": "none", "beam.modes": 3}
+    print("spatial-slider-crank, squeeze film at 40 um, 3 modes a direction, 0.1 s; simulate() end to end, warm")
+    results = {}
+    for label, method, n in (("auto", "auto", repeats), ("exponential", "exponential", 1), ("SciPy Radau", "Radau", 1)):
+        seconds, ds = timed({**base, "solver.method": method}, n, "spatial-slider-crank")
+        results[label] = (seconds, ds)
+        row(f"spatial, {label}", seconds, ds)
+    ref = results["SciPy Radau"][1]
+    for label in ("auto", "exponential"):
+        seconds, ds = results[label]
+        du = max(float(np.abs(ds[v] - ref[v]).max()) for v in ("u2_mid", "u3_mid"))
+        print(f"  {label}: {results['SciPy Radau'][0] / seconds:.1f}x Radau's speed, |u - u_Radau| <= {du:.2g} m")
+
+
 if __name__ == "__main__":
     main()
+    spatial(3)

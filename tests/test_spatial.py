@@ -200,3 +200,32 @@ def test_rssp_planar_case_is_the_paper_slider_crank():
         assert abs(w[0]) + abs(w[1]) + abs(al[0]) + abs(al[1]) + abs(A_O[2]) < 1e-12
         assert x_star == pytest.approx(k["x_star"], rel=1e-12) and V_r == pytest.approx(k["V_r"], rel=1e-10)
         assert v_O[0] == pytest.approx(k["v_O1"], rel=1e-12)
+
+
+def test_oscillator_jacobian_is_the_frame_acceleration_matrices():
+    """``spatial.oscillator_jacobian`` against the matrices of ``2 w x v + alpha x x + w x (w x x)`` written by hand:
+    ``d/dx = [alpha x] + w w^T - |w|^2 I``, ``d/dv = 2 [w x]``, on every mode's three coordinates, with the
+    oscillators' ``-W^2`` and ``-2 zeta W`` on the diagonals; and the accelerations' change from the rest state is
+    that Jacobian times the state (the equations are affine in the state without loads)."""
+    def cross(a):
+        return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+    N, zeta = 3, 0.03
+    w, al = np.array([0.7, -2.0, 5.0]), np.array([30.0, 4.0, -11.0])
+    W = np.linspace(100.0, 900.0, 3 * N)
+    Jq, Jv = np.zeros((3 * N, 3 * N)), np.zeros((3 * N, 3 * N))
+    spatial.oscillator_jacobian(W, zeta, tuple(w), tuple(al), Jq, Jv)
+    Cx = cross(al) + np.outer(w, w) - w @ w * np.eye(3)
+    Cv = 2.0 * cross(w)
+    Jq_ref, Jv_ref = -np.diag(W**2), -np.diag(2.0 * zeta * W)
+    for n in range(N):
+        idx = np.array([n, N + n, 2 * N + n])
+        Jq_ref[np.ix_(idx, idx)] -= Cx
+        Jv_ref[np.ix_(idx, idx)] -= Cv
+    np.testing.assert_allclose(Jq, Jq_ref, rtol=0, atol=1e-12 * np.abs(Jq_ref).max())
+    np.testing.assert_allclose(Jv, Jv_ref, rtol=0, atol=1e-14)
+    y = np.random.default_rng(0).standard_normal(6 * N)
+    out, rest = np.empty(6 * N), np.empty(6 * N)
+    for state, acc in ((y, out), (np.zeros(6 * N), rest)):  # the rigid motion's load: the affine part
+        spatial.accelerations(state, W, zeta, (0.0, 0.0, 0.0), tuple(w), tuple(al), np.zeros(3 * N), 1.0, 1.0, acc)
+    np.testing.assert_allclose(out[3 * N:] - rest[3 * N:], Jq @ y[:3 * N] + Jv @ y[3 * N:], rtol=1e-12, atol=1e-9)

@@ -555,3 +555,81 @@ def test_the_domain_of_the_linear_theory_is_checked_out_of_plane():
                         *[a for k, v in over.items() for a in ("--set", f"{k}={v!r}" if isinstance(v, str) else f"{k}={v}")]],
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 1 and "peak |u3_mid|" in r.stdout and "out_of_domain" in r.stdout
+
+
+def _fd(f, x, steps):
+    J = np.empty((f(x).size, x.size))
+    for k in range(x.size):
+        e = np.zeros(x.size)
+        e[k] = steps[k]
+        J[:, k] = (f(x + e) - f(x - e)) / (2 * steps[k])
+    return J
+
+
+@pytest.mark.parametrize("sets, phase", [
+    ({"film.model": "wedge+squeeze", "film.clearance": 1e-4, "film.faces": "u2+u3", "film.sides": 2,
+      "mechanism.crank_tilt": 0.3, "beam.damping_ratio": 0.02}, None),
+    ({"film.model": "wedge+squeeze", "film.clearance": 6e-6, "film.roughness": 1e-6, "film.thickness_floor": 0.0,
+      "contact.min_film": 5e-7,
+      "film.faces": "u2+u3", "beam.modes": 2}, None),
+    ({"film.model": "none", "film.clearance": 1e-4, "film.faces": "u2+u3", "contact.law": "compliant"}, (2.0, 0.05)),
+], ids=["squeeze-both-pairs", "asperity", "compliant-u3"])
+def test_spatial_jacobian_against_finite_differences(sets, phase):
+    """The spatial right-hand side's Jacobian (an ``out`` of ``n + n^2``) against its own central differences:
+    films and asperities on both pairs of faces, the frame's accelerations of a tilted crank, and a compliant
+    contact on the u3 faces pressed 1 um in; the frame terms matter (the Coriolis and centrifugal entries are
+    checked to be there)."""
+    cfg = resolve("spatial-slider-crank", sets)
+    model = build_model(cfg)
+    assert model.jacobian_missing(phase) == ""
+    p = model.with_phase(phase)
+    N = cfg.beam.modes
+    n = 6 * N
+    rng = np.random.default_rng(3)
+    y = np.concatenate([rng.standard_normal(3 * N) * 2e-7, rng.standard_normal(3 * N) * 1e-4])
+    t = 0.137
+    if phase is not None:  # the u3 faces' film H/2 - u3 1 um below min_film at the thinnest point
+        x_star = model.kinematics(t).x_star
+        x = np.linspace(x_star, x_star + cfg.film.pad_length, 201)
+        u3 = np.sin(np.outer(x, np.arange(1, N + 1)) * np.pi / cfg.mechanism.rod_length) @ y[2 * N:3 * N]
+        y[2 * N:3 * N] *= (0.5 * cfg.film.clearance - cfg.contact.min_film + 1e-6) / u3[np.argmax(np.abs(u3))]
+        assert model.thinnest_film(t, y)[3] == 2
+    out = np.empty(n + n * n)
+    spatial_rhs(t, y, out, p)
+    f = np.empty(n)
+    spatial_rhs(t, y, f, p)
+    np.testing.assert_array_equal(out[:n], f)
+
+    def g(x):
+        d = np.empty(n)
+        spatial_rhs(t, x, d, p)
+        return d
+
+    J = out[n:].reshape(n, n)
+    J_fd = _fd(g, y, np.r_[np.full(3 * N, 1e-10), np.full(3 * N, 1e-7)])
+    np.testing.assert_allclose(J, J_fd, rtol=0, atol=1e-6 * np.abs(J_fd).max())
+    M = 3 * N
+    assert np.abs(J[M:M + N, M + N:M + 2 * N]).max() > 0.0  # Coriolis: axial <- in-plane velocity
+    assert np.abs(J[M + 2 * N:, N:2 * N]).max() > 0.0  # the frame's centrifugal/Euler: out-of-plane <- in-plane
+
+
+def test_a_stiff_squeeze_film_on_the_spatial_link_runs_rodas_with_its_jacobian():
+    """At 40 um the squeeze film damps at 2e7 1/s: "auto" takes rodas with the analytic Jacobian, and its result
+    is SciPy's Radau's (a second method) to 1e-7 of the peak (measured 9e-9); with films on both pairs the stiffer pair decides
+    (the u3 faces of a link twice as high as wide: pads twice as wide, twice the rate)."""
+    from lubelink.choice import film_squeeze_rate, method_name
+
+    base = {"film.model": "wedge+squeeze", "film.clearance": 4e-5, "film.viscosity": 0.05, "solver.t_end": 0.02,
+            "contact.law": "none", "beam.modes": 2}
+    cfg = resolve("spatial-slider-crank", base)
+    assert method_name(cfg) == "rodas"
+    both = resolve("spatial-slider-crank", {**base, "film.faces": "u2+u3", "beam.height": 2.0 * cfg.beam.width})
+    assert film_squeeze_rate(both) == pytest.approx(2.0 * film_squeeze_rate(
+        resolve("spatial-slider-crank", {**base, "beam.height": 2.0 * cfg.beam.width})))
+    rodas = lubelink.simulate(cfg)
+    assert rodas.attrs["solver_method"] == "rodas" and "Jacobian analytic" in rodas.attrs["solver_note"]
+    radau = lubelink.simulate(cfg, set={"solver.method": "Radau"})
+    for name in ("u2_mid", "u3_mid"):
+        peak = float(np.abs(radau[name]).max())
+        assert peak > 0.0
+        np.testing.assert_allclose(rodas[name], radau[name], rtol=0, atol=1e-7 * peak)

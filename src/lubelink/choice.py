@@ -21,11 +21,14 @@ NONSTIFF_STEP = 2.4e-3
 
 
 def film_squeeze_rate(config) -> float:
-    """:func:`~lubelink.film.jacobian.squeeze_rate` of the planar link's film [1/s] (0: none, or the spatial link)."""
-    if config.beam.model != "planar" or not config.film.enabled:
+    """:func:`~lubelink.film.jacobian.squeeze_rate` of the link's film [1/s] (0: none); of the spatial link with
+    films on both pairs of faces, the larger of the ``u2`` faces' (pad width ``b``) and the ``u3`` faces' (``h``)."""
+    if not config.film.enabled:
         return 0.0
     b = config.beam
-    return squeeze_rate(config.film, b.width, 0.5 * b.density * b.width * b.height * config.mechanism.rod_length)
+    mass = 0.5 * b.density * b.width * b.height * config.mechanism.rod_length
+    widths = (b.width, b.height) if config.beam.model == "spatial" and config.film.faces == "u2+u3" else (b.width,)
+    return max(squeeze_rate(config.film, width, mass) for width in widths)
 
 
 def stiff_reason(config) -> str:
@@ -46,7 +49,7 @@ def method_choice(config):
 def method_name(config):
     """The integration method that ``solver.method`` names.
 
-    ``"auto"``: the exponential Adams method of order six for a planar link without a film or
+    ``"auto"``: ``rodas`` for a stiff film (:func:`stiff_reason`, planar or spatial); the exponential Adams method of order six for a planar link without a film or
     without a contact law (two evaluations a step; at the default tolerances 1.5-2.5x faster than
     the exponential Runge-Kutta method and DOP853, within 0.11 um of a tight reference, and at
     equal error on par or faster: benchmarks/README.md); otherwise, a film with impacts or the

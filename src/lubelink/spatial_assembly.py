@@ -31,9 +31,6 @@ class SpatialModel(Model):
     def state_frequencies(self) -> np.ndarray:
         return self.params.spatial.W
 
-    def jacobian_missing(self, phase=None) -> str:
-        return "the spatial link (its Jacobian is not written yet)"
-
     def to_physical(self, y):
         """The sine-mode states ``[Q, Q_t]`` of integrator states ``y`` ``(..., 6 N)`` (the eigen-coordinates of a
         variable section, :mod:`lubelink.link.spatial_section`; ``y`` itself for a uniform link)."""

@@ -35,6 +35,7 @@ from .._jit import jitable
 from ..beam import rigid_load, wavenumbers
 
 __all__ = ["SpatialRigidMotion", "frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations",
+           "oscillator_jacobian",
            "deflections"]
 
 
@@ -79,6 +80,30 @@ def frame_terms(w, al, x, v):
     return (2.0 * (w2 * v[2] - w3 * v[1]) + (al[1] * x[2] - al[2] * x[1]) + (w1 * wq - ww * x[0]),
             2.0 * (w3 * v[0] - w1 * v[2]) + (al[2] * x[0] - al[0] * x[2]) + (w2 * wq - ww * x[1]),
             2.0 * (w1 * v[1] - w2 * v[0]) + (al[0] * x[1] - al[1] * x[0]) + (w3 * wq - ww * x[2]))
+
+
+@jitable
+def oscillator_jacobian(W, zeta, w, al, Jq, Jv):
+    """Add ``d Q_tt / d Q`` and ``d Q_tt / d Q_t`` [1/s^2, 1/s] of :func:`accelerations` without its loads to ``Jq``,
+    ``Jv`` ``(3 N, 3 N)``: the oscillators ``-W^2``, ``-2 zeta W`` on the diagonals and the link frame's
+    accelerations of each mode's three coordinates.
+
+    :func:`frame_terms` is linear in the displacement and its velocity, so its columns are its values at unit
+    vectors: the Jacobian of the very function the right-hand side calls.
+    """
+    N = W.shape[0] // 3
+    zero = (0.0, 0.0, 0.0)
+    for e in range(3):
+        unit = (1.0 if e == 0 else 0.0, 1.0 if e == 1 else 0.0, 1.0 if e == 2 else 0.0)
+        cx = frame_terms(w, al, unit, zero)
+        cv = frame_terms(w, al, zero, unit)
+        for d in range(3):
+            for n in range(N):
+                Jq[d * N + n, e * N + n] -= cx[d]
+                Jv[d * N + n, e * N + n] -= cv[d]
+    for i in range(3 * N):
+        Jq[i, i] -= W[i] * W[i]
+        Jv[i, i] -= 2.0 * zeta * W[i]
 
 
 @jitable

@@ -37,10 +37,11 @@ from .. import contact
 from .._jit import jitable, kernel
 from ..params import CHOICES
 from . import section, spatial, spatial_section
-from .faces import ContactPhase, compliant_on, face_loads, in_sustained, sustained_on, thinnest_on
+from .faces import (ContactPhase, compliant_jacobian_on, compliant_on, face_jacobian, face_loads, in_sustained,
+                    phase_side, sustained_on, thinnest_on)
 from .spatial_motion import SpatialMotion, collar_acceleration_at, spatial_motion_at
 
-__all__ = ["SpatialTable", "spatial_rhs", "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
+__all__ = ["SpatialTable", "spatial_rhs", "spatial_jacobian_given", "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
 
 #: ``film.faces``'s code of the second film pair (on the ``u3`` faces).
 U2_U3 = CHOICES["film.faces"].index("u2+u3")
@@ -145,10 +146,60 @@ def _sustained_spatial(phase, t, kin, y, out, p):
                         kin.x_star, kin.V_r, A_r, p, side, phase.point, p.spatial.W[(k + 1) * N - 1])
 
 
+@jitable
+def spatial_jacobian_given(kin, y, J, p):
+    """``J = d(dy/dt)/dy`` ``(6 N, 6 N)`` of :func:`spatial_rhs_given` for the rigid motion ``kin``.
+
+    The uniform link outside a sustained contact, as the planar :func:`~lubelink.link.model.jacobian_given`:
+    the identity block of ``dQ/dt = Q_t``; :func:`~lubelink.link.spatial.oscillator_jacobian`; the film and
+    asperity contact of each pair of faces (:func:`~lubelink.link.faces.face_jacobian` on its block) and the
+    compliant contact of a contact phase on its block, divided by the modal mass.
+    """
+    N = p.basis.modes
+    M = 3 * N
+    J[:, :] = 0.0
+    Jq = J[M:, :M]
+    Jv = J[M:, M:]
+    x_star, V_r = kin.x_star, kin.V_r
+    face_jacobian(y[N:2 * N], y[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, Jq[N:2 * N, N:2 * N],
+                  Jv[N:2 * N, N:2 * N])
+    if p.film.faces == U2_U3:
+        face_jacobian(y[2 * N:M], y[M + 2 * N:], x_star, V_r, p, p.beam.height, Jq[2 * N:, 2 * N:], Jv[2 * N:, 2 * N:])
+    if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
+        _compliant_jacobian_spatial(p.phase, y, x_star, V_r, p, Jq, Jv)
+    Jq /= p.basis.modal_mass
+    Jv /= p.basis.modal_mass
+    spatial.oscillator_jacobian(p.spatial.W, p.beam.damping_ratio, kin.omega, kin.alpha, Jq, Jv)
+    for i in range(M):
+        J[i, M + i] = 1.0
+
+
+@jitable
+def _compliant_jacobian_spatial(phase, y, x_star, V_r, p, Jq, Jv):
+    """Add the compliant contact's Jacobian of ``phase`` on its face's block (None: compiles to nothing)."""
+    if phase is None:
+        return
+    k, side = face_of(phase.side)
+    N = p.basis.modes
+    M = 3 * N
+    b = slice(k * N, (k + 1) * N)
+    compliant_jacobian_on(ContactPhase(side, phase.v_minus, phase.point), y[b], y[M + k * N:M + (k + 1) * N], x_star,
+                          V_r, p, Jq[b, b], Jv[b, b])
+
+
 @kernel
 def spatial_rhs(t, y, out, p):
-    """``dy/dt`` of the spatial modal equations into ``out`` (``y``, ``out`` shape ``(6 N,)``), a sustained contact included."""
+    """``dy/dt`` of the spatial modal equations into ``out`` (``y``, ``out`` shape ``(6 N,)``), a sustained contact included.
+
+    An ``out`` of ``n + n^2`` entries asks for the Jacobian as well (:func:`spatial_jacobian_given`), as the planar
+    :func:`~lubelink.link.model.rhs`.
+    """
     kin = spatial_motion_at(t, p.spatial.motion)
+    n = y.shape[0]
+    if out.shape[0] > n:
+        spatial_rhs_given(kin, y, out[:n], p)
+        spatial_jacobian_given(kin, y, out[n:].reshape((n, n)), p)
+        return
     spatial_rhs_given(kin, y, out, p)
     if in_sustained(p.phase, p.contact.law):
         _sustained_spatial(p.phase, t, kin, y, out, p)
