@@ -397,3 +397,38 @@ def test_run_says_which_method_ran_and_why(tmp_path):
     assert r.returncode == 0, r.stderr
     line = next(ln for ln in r.stdout.splitlines() if ln.startswith("solver"))
     assert "rodas (auto: stiff: the squeeze film damps at" in line and "Jacobian analytic" in line
+
+
+def test_a_results_file_shows_itself_and_runs_again(tmp_path):
+    """``lubelink show FILE.nc`` prints the summary ``run`` printed (the lines that do not depend on the wall
+    clock) and the configuration, which loads back to the file's; ``lubelink run FILE.nc`` runs that configuration
+    again into FILE-rerun.nc with the same numbers (to the bit), with --set on top of it; a file that is not
+    results is status 2 with one line."""
+    import numpy as np
+    import tomllib
+
+    out = tmp_path / "paper.nc"
+    first = cli("run", *SHORT_ARGS, "--set", "beam.modes=2", "-o", str(out))
+    assert first.returncode == 0, first.stderr
+    shown = cli("show", str(out))
+    assert shown.returncode == 0, shown.stderr
+    steady = [line for line in first.stdout.splitlines() if line.split()[0] in ("status", "simulated", "peak", "film",
+                                                                                 "impacts", "energy", "solver")]
+    for line in steady:
+        assert line in shown.stdout
+    text = shown.stdout.split("runs it again):\n", 1)[1]
+    ds = lubelink.load(out)
+    assert tomllib.loads(text) == tomllib.loads(ds.attrs["config"])
+    again = cli("run", str(out), "-q", cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    rerun = lubelink.load(tmp_path / "paper-rerun.nc")
+    np.testing.assert_array_equal(rerun.u2_mid, ds.u2_mid)
+    changed = cli("run", str(out), "-q", "--set", "beam.modes=3", "-o", str(tmp_path / "three.nc"))
+    assert changed.returncode == 0, changed.stderr
+    three = lubelink.load(tmp_path / "three.nc")
+    assert three.sizes["mode"] == 3 and float(three.time[-1]) == float(ds.time[-1])
+    foreign = tmp_path / "foreign.nc"
+    foreign.write_bytes(b"CDF\x01" + b"\x00" * 64)
+    for args in (("show", str(foreign)), ("run", str(foreign)), ("show", str(tmp_path / "none.nc"))):
+        bad = cli(*args)
+        assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "lubelink: error:" in bad.stderr, (args, bad.stderr)

@@ -381,3 +381,18 @@ def test_film_results_converge_in_modes_at_a_real_clearance():
     assert film[0] > film[1] > film[2] and u[0] > u[1] > u[2], (film, u)
     assert film[2] < 0.5e-6 and u[2] < 0.5e-6  # 15 modes against 31 (measured 0.2 um of film at 20 um)
     assert film[0] > 10 * film[2]  # 3 modes are far off at 20 um (docs/model.md 7.5: 2.6 um over 1 s)
+
+
+def test_a_run_that_ends_early_keeps_the_state_where_it_stopped():
+    """A film breakdown under contact.law = 'none' (paper-impact) ends the run at the event: its last sample is
+    that instant, where the thinnest film is min_film (the event's own definition), not the sample before."""
+    from lubelink.results import to_dataset
+
+    r = run(resolve("paper-impact", {"contact.law": "none", "solver.t_end": 1.3}))
+    ds = to_dataset(r)
+    assert ds.attrs["status"] == "film_breakdown"
+    t_event = r.event_time
+    assert float(ds.time[-1]) == t_event and float(ds.time[-2]) < t_event
+    cfg = resolve("paper-impact")
+    assert float(ds.film_min[-1]) == pytest.approx(cfg.contact.min_film, abs=1e-10)
+    assert float(ds.film_min[:-1].min()) > cfg.contact.min_film

@@ -21,6 +21,8 @@ EPILOG = """examples:
   lubelink run --scenario paper-impact -o impact.nc
   lubelink run my.toml --set beam.modes=5 --set film.viscosity=0.2
   lubelink config --scenario paper-dry          print the full configuration as commented TOML
+  lubelink show impact.nc                       the summary and configuration of a results file
+  lubelink run impact.nc --set beam.modes=3     run a results file's configuration again (impact-rerun.nc)
 """
 
 
@@ -31,9 +33,10 @@ EXTENSIONS = ("lubelink.paper", "lubelink.sweep", "lubelink.steady")
 
 
 def _add_config_args(p):
-    p.add_argument("config", nargs="?", metavar="CONFIG.toml|SCENARIO",
-                   help="TOML configuration file (its top-level 'scenario' key names the base) or the name of "
-                        "a built-in scenario (paper, paper-dry, paper-impact); default 'paper'")
+    p.add_argument("config", nargs="?", metavar="CONFIG.toml|SCENARIO|RESULTS.nc",
+                   help="TOML configuration file (its top-level 'scenario' key names the base), the name of "
+                        "a built-in scenario (paper, paper-dry, paper-impact), or a results file (the "
+                        "configuration it was computed with); default 'paper'")
     p.add_argument("--scenario", metavar="NAME",
                    help="built-in scenario to start from when no CONFIG is given: paper, paper-dry, paper-impact")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
@@ -77,6 +80,12 @@ def build_parser(extensions=True):
                                    "for your own file; it loads back to the same configuration).")
     _add_config_args(p)
 
+    p = sub.add_parser("show", help="print the summary and the configuration of a results file",
+                       description="Print the summary of a results file, as lubelink run printed it, and the "
+                                   "configuration it was computed with (TOML). 'lubelink run FILE.nc' runs that "
+                                   "configuration again.")
+    p.add_argument("file", metavar="FILE.nc", help="a results file written by lubelink run or lubelink.save")
+    p.add_argument("--no-config", action="store_true", help="the summary only")
     sub.add_parser("scenarios", help="list the built-in scenarios", description="List the built-in scenarios.")
     sub.add_parser("compile", help="compile the numerical kernels now (cached on disk)",
                    description="Compile every numerical kernel (or load it from Numba's on-disk cache) and say how "
@@ -104,7 +113,43 @@ def resolve_args(args):
                              + suggest(args.config, SCENARIOS))
     overrides = dict(parse_override(text) for text in args.overrides)
     source = args.config or args.scenario or "paper"
+    if args.config and is_results_file(args.config):
+        return source, resolve(_results_config(args.config), overrides)
     return source, resolve(source, overrides)
+
+
+#: The first bytes of a NetCDF file: classic (CDF 1, 2, 5) or NetCDF-4 (HDF5).
+_NETCDF_MAGIC = (b"CDF\x01", b"CDF\x02", b"CDF\x05", b"\x89HDF\r\n\x1a\n")
+
+
+def is_results_file(path):
+    """Whether ``path`` is a NetCDF file (by its first bytes), as ``lubelink run`` and ``show`` take them."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(8)
+    except OSError:
+        return False
+    return any(head.startswith(magic) for magic in _NETCDF_MAGIC)
+
+
+def _load_results(path):
+    """The results dataset of the file ``path``; a file that is not lubelink results is a UsageError."""
+    from .netcdf import ResultsFileError, load
+
+    try:
+        return load(path)
+    except ResultsFileError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _results_config(path):
+    """The configuration a results file was computed with (its ``config`` attribute)."""
+    from .netcdf import ResultsFileError, config_of
+
+    try:
+        return config_of(_load_results(path))
+    except ResultsFileError as exc:
+        raise UsageError(f"{path}: {exc}") from None
 
 
 def _budget(r):
@@ -140,9 +185,9 @@ def _summary(r, source, path, wall):
     import numpy as np
 
     a = r.attrs
-    u = np.abs(r["u2_mid"])
+    u = np.abs(np.asarray(r["u2_mid"]))
     i = int(np.argmax(u)) if u.size else 0
-    t = r["time"]
+    t = np.asarray(r["time"])
     rows = [
         ("source", str(source)),
         ("status", a["status"] + ("" if a["status"] == "complete" else f": {a['message']}")),
@@ -150,7 +195,7 @@ def _summary(r, source, path, wall):
         ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(t[i]):.4f} s"),
     ]
     if "u3_mid" in r and r["u3_mid"].size:  # the spatial link: the out-of-plane peak too
-        u3 = np.abs(r["u3_mid"])
+        u3 = np.abs(np.asarray(r["u3_mid"]))
         j = int(np.argmax(u3))
         rows.append(("peak |u3_mid|", f"{1e3 * u3[j]:.4f} mm at t = {float(t[j]):.4f} s"))
     if "pressure" in r:
@@ -175,7 +220,7 @@ def _summary(r, source, path, wall):
     rows.append(("solver", f"{a['solver_method']}{note}, {a['nsteps']} steps, {a['nfev']} right-hand-side "
                            f"evaluations, backend {backend}"))
     budget = _budget(r)
-    rows.append(("wall time", f"{a['wall_time']:.3f} s integration, {wall:.3f} s in all"
+    rows.append(("wall time", f"{a['wall_time']:.3f} s integration" + (f", {wall:.3f} s in all" if wall is not None else "")
                  + (f" (budget solver.max_wall_time = {budget:g} s)" if budget is not None else "")))
     if path is not None:
         rows.append(("wrote", str(path)))
@@ -280,7 +325,8 @@ def _cmd_run(args):
     source, config = resolve_args(args)
     path = None
     if not args.no_output:
-        path = Path(args.output) if args.output else Path(f"{Path(str(source)).stem}.nc")
+        stem = Path(str(source)).stem + ("-rerun" if is_results_file(str(source)) else "")
+        path = Path(args.output) if args.output else Path(f"{stem}.nc")
         problem = output_problem(path, args.overwrite)
         if problem == EXISTS:
             raise UsageError(f"-o {path}: the file exists; add --overwrite to replace it")
@@ -318,6 +364,17 @@ def _cmd_config(args):
     return 0
 
 
+def _cmd_show(args):
+    if not Path(args.file).is_file():
+        raise UsageError(f"FILE.nc = {args.file!r}: no such file")
+    ds = _load_results(args.file)
+    print(_summary(ds, args.file, None, None))
+    if not args.no_config:
+        print("\nconfiguration (lubelink run " + args.file + " runs it again):\n")
+        sys.stdout.write(str(ds.attrs.get("config", "(none stored)")).rstrip("\n") + "\n")
+    return 0
+
+
 def _cmd_scenarios(args):
     from .config import SCENARIOS
 
@@ -335,7 +392,8 @@ def _cmd_compile(args):
     return 0
 
 
-COMMANDS = {"run": _cmd_run, "config": _cmd_config, "scenarios": _cmd_scenarios, "compile": _cmd_compile}
+COMMANDS = {"run": _cmd_run, "config": _cmd_config, "show": _cmd_show, "scenarios": _cmd_scenarios,
+            "compile": _cmd_compile}
 
 
 def main(argv=None):

@@ -230,6 +230,13 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
             break
         if t >= s.t_end:
             break
+    if out.status not in ("complete", "out_of_domain") and t > ts[-1][-1]:
+        final = model.to_physical(y)  # a run that ends early keeps the state where it stopped as its last sample
+        if np.all(np.isfinite(final)):
+            ts.append(np.array([t]))
+            ys.append(final[None, :])
+            for series, value in ((sides, 0), (vs, 1), (points, 2)):
+                series.append(np.full(1, 0.0 if phase is None or len(phase) <= value else float(phase[value])))
     out.method_note = "; ".join(x for x in (method_choice(config)[1], note if stiff else "") if x)
     out.impacts = logic.impacts
     out.contacts = logic.contacts
