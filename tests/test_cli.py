@@ -432,3 +432,16 @@ def test_a_results_file_shows_itself_and_runs_again(tmp_path):
     for args in (("show", str(foreign)), ("run", str(foreign)), ("show", str(tmp_path / "none.nc"))):
         bad = cli(*args)
         assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "lubelink: error:" in bad.stderr, (args, bad.stderr)
+
+
+@pytest.mark.parametrize("command", ["run", "config", "animate", "periodic", "continue"])
+def test_help_names_every_scenario(command, capsys):
+    """The help of every command that takes a scenario lists the scenario table, not a copy of it."""
+    from lubelink.cli import main
+    from lubelink.scenarios import SCENARIOS
+
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for name in SCENARIOS:
+        assert name in text, (command, name)

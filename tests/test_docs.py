@@ -139,3 +139,12 @@ def test_site_builds_with_api_reference_and_executed_gallery(tmp_path):
     assert 'id="43-first-integral"' in model  # the numbered sections the code cites are anchors
     index = _text(site / "index.html")
     assert 'href="model/"' in index  # README's link to docs/model.md works on the site
+
+
+def test_every_page_is_in_the_navigation():
+    """mkdocs only lists a page left out of ``nav`` at INFO level, which ``--strict`` lets through: every Markdown
+    page under docs/ must be named in mkdocs.yml's navigation (figures/mode-convergence.md was not)."""
+    nav = (ROOT / "mkdocs.yml").read_text(encoding="utf-8").split("\nnav:", 1)[1]
+    named = set(re.findall(r"([\w./-]+\.md)\s*$", nav, flags=re.M))
+    pages = {str(p.relative_to(ROOT / "docs")) for p in (ROOT / "docs").rglob("*.md")}
+    assert pages and not pages - named, sorted(pages - named)

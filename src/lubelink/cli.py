@@ -33,18 +33,20 @@ EXTENSIONS = ("lubelink.paper", "lubelink.sweep", "lubelink.steady")
 
 
 def _add_config_args(p):
+    from .scenarios import SCENARIOS
+
+    names = ", ".join(SCENARIOS)
     p.add_argument("config", nargs="?", metavar="CONFIG.toml|SCENARIO|RESULTS.nc",
                    help="TOML configuration file (its top-level 'scenario' key names the base), the name of "
-                        "a built-in scenario (paper, paper-dry, paper-impact), or a results file (the "
-                        "configuration it was computed with); default 'paper'")
-    p.add_argument("--scenario", metavar="NAME",
-                   help="built-in scenario to start from when no CONFIG is given: paper, paper-dry, paper-impact")
+                        f"a built-in scenario ({names}), or a results file (the configuration it was computed "
+                        "with); default 'paper'")
+    p.add_argument("--scenario", metavar="NAME", help=f"built-in scenario to start from when no CONFIG is given: {names}")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="SECTION.KEY=VALUE",
                    help="override one parameter, value in TOML syntax (repeatable), e.g. --set beam.modes=5")
 
 
 def _default_budget():
-    from .config import DEFAULT_MAX_WALL_TIME
+    from .scenarios import DEFAULT_MAX_WALL_TIME
 
     return DEFAULT_MAX_WALL_TIME
 
