@@ -229,3 +229,60 @@ def test_a_sweep_point_skips_the_configuration_text(monkeypatch):
     assert record["status"] == "complete", record["message"]
     assert record["peak_film_force"] == float(np.abs(full["film_force"]).max())
     assert record["min_film"] == float(np.min(full["film_min"]))
+
+
+def test_a_link_sagging_under_its_weight_has_the_static_beams_bending_stress():
+    """A pinned-pinned link at rest under gravity, damped to rest (zeta 0.9): at mid-span the bending stress is
+    (w (h/2) / I) (4 L^2 / pi^3) sum over odd n <= N of (-1)^((n-1)/2) / n^3, the static sine series of the uniform
+    load w = rho A g, which tends to the beam's w L^2 / 8 (h/2) / I (7 modes: 0.08 % above it); along the link the
+    stress is that series' (to 1e-9) and the static moment w x (L - x) / 2 times (h/2) / I (to 0.3 %: the series
+    converges slowest near the pins), and it is largest at mid-span."""
+    from lubelink.config import resolve
+    from lubelink.link.kinematics import sampled_motion
+    from lubelink.results import collect, dataset
+    from lubelink.simulate import run
+
+    N, g = 7, 9.81
+    cfg = resolve("paper-dry", {"beam.modes": N, "beam.damping_ratio": 0.9, "mechanism.gravity": [0.0, -g],
+                                "solver.t_end": 0.5, "output.x_points": 41})
+    t = np.linspace(0.0, 0.6, 8)
+    zero = np.zeros_like(t)
+    ds = dataset(collect(run(cfg, motion=sampled_motion(t, A_O2=zero, omega=zero, x_star=zero + 0.4))))
+    b, L = cfg.beam, cfg.mechanism.rod_length
+    w, c, I = b.density * b.width * b.height * g, b.height / 2, b.width * b.height**3 / 12
+    odd = np.arange(1, N + 1, 2)
+    series = 4 * L**2 / np.pi**3 * np.sum((-1.0) ** ((odd - 1) // 2) / odd**3)
+    stress = ds.bending_stress.values[-1]
+    x = ds.x.values
+    mid = int(np.argmin(np.abs(x - L / 2)))
+    assert stress[mid] == pytest.approx(w * c / I * series, rel=1e-9)
+    assert stress[mid] == pytest.approx(w * L**2 / 8 * c / I, rel=1e-3)
+    truncated = w * c / I * np.abs(4 * L**2 / np.pi**3 * np.sin(np.outer(x, odd) * np.pi / L) @ (1.0 / odd**3))
+    np.testing.assert_allclose(stress, truncated, rtol=1e-9, atol=1e-9 * stress[mid])
+    np.testing.assert_allclose(stress, w * x * (L - x) / 2 * c / I, rtol=0, atol=5e-3 * stress[mid])
+    assert int(np.argmax(stress)) == mid
+
+
+def test_a_spatial_link_sagging_out_of_its_plane_has_the_static_beams_bending_stress():
+    """The spatial link at rest with its e3 axis vertical (e2 horizontal): gravity bends it out of plane (u3), about
+    the section's other axis: at mid-span the stress is w (B/2) / I_y times the same truncated static series."""
+    from lubelink.config import resolve
+    from lubelink.link.spatial_motion import sampled_spatial_motion
+    from lubelink.results import collect, dataset
+    from lubelink.simulate import run
+
+    N, g = 5, 9.81
+    cfg = resolve("spatial-slider-crank", {"beam.modes": N, "beam.damping_ratio": 0.9, "mechanism.gravity": [0.0, -g],
+                                           "film.model": "none", "solver.t_end": 0.5, "output.x_points": 41})
+    t = np.linspace(0.0, 0.6, 8)
+    n = t.size
+    motion = sampled_spatial_motion(t, A_O=np.zeros((n, 3)), omega=np.zeros((n, 3)), x_star=np.full(n, 0.4),
+                                    e1=np.array([1.0, 0.0, 0.0]), e2=np.array([0.0, 0.0, 1.0]))
+    ds = dataset(collect(run(cfg, motion=motion)))
+    b, L = cfg.beam, cfg.mechanism.rod_length
+    w, c, I_y = b.density * b.width * b.height * g, b.width / 2, b.height * b.width**3 / 12
+    odd = np.arange(1, N + 1, 2)
+    series = 4 * L**2 / np.pi**3 * np.sum((-1.0) ** ((odd - 1) // 2) / odd**3)
+    mid = int(np.argmin(np.abs(ds.x.values - L / 2)))
+    assert float(np.abs(ds.u2_mid[-1])) < 1e-12 * float(np.abs(ds.u3_mid[-1]))
+    assert float(ds.bending_stress[-1, mid]) == pytest.approx(w * c / I_y * series, rel=1e-9)

@@ -200,6 +200,11 @@ def _summary(r, source, path, wall):
         u3 = np.abs(np.asarray(r["u3_mid"]))
         j = int(np.argmax(u3))
         rows.append(("peak |u3_mid|", f"{1e3 * u3[j]:.4f} mm at t = {float(t[j]):.4f} s"))
+    if "bending_stress" in r and np.size(r["bending_stress"]):
+        s = np.asarray(r["bending_stress"])
+        k = np.unravel_index(int(np.argmax(s)), s.shape)
+        rows.append(("peak stress", f"{1e-6 * s[k]:.4g} MPa (bending) at x = {float(np.asarray(r['x'])[k[1]]):.4g} m, "
+                                    f"t = {float(t[k[0]]):.4f} s"))
     if "pressure" in r:
         rows.append(("film", f"thinnest {1e3 * float(r['film_min'].min()):.4f} mm, peak gauge pressure "
                              f"{1e-3 * float(np.abs(r['pressure']).max()):.4g} kPa, peak force "

@@ -49,6 +49,7 @@ class Run:
     phase_side: np.ndarray | None = None
     phase_v: np.ndarray | None = None
     phase_point: np.ndarray | None = None
+    section: object = None  # the lubelink.link.section.Section run() was given, if any
 
     @property
     def complete(self) -> bool:
@@ -79,6 +80,7 @@ VARIABLES = {
     "u1": Variable(("time", "x"), "m", "axial displacement (spatial model)"),
     "u3": Variable(("time", "x"), "m", "out-of-plane deflection (spatial model)"),
     "u3_mid": Variable(("time",), "m", "midpoint out-of-plane deflection (spatial model)"),
+    "bending_stress": Variable(("time", "x"), "Pa", "largest bending stress in the section (spatial: at a corner)"),
     "x_star": Variable(("time",), "m", "collar position along the link"),
     "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
     "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
@@ -317,6 +319,8 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
             if name in want:
                 data[name] = _entry(name, value)
         data["omega_spatial"] = _entry("omega_spatial", np.reshape(model.state_frequencies, (3, N)))
+    if "bending_stress" in want:
+        data["bending_stress"] = _entry("bending_stress", _bending_stress(result, q, y_state, x))
     coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
     if "omega_spatial" in data:
         coords["direction"] = _entry("direction", np.arange(1, 4))
@@ -421,15 +425,27 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     return Results(data, coords, attrs)
 
 
+def _bending_stress(result, q, y_state, x):
+    """``E c_z |u2''| (+ E c_y |u3''|)`` [Pa] at the points ``x``, ``c`` of the run's section (``fibre_distances``)."""
+    from . import beam
+    from .link.section import fibre_distances, taper
+
+    model, cfg = result.model, result.model.config
+    c_z, c_y = fibre_distances(result.section or taper(cfg.beam, cfg.mechanism.rod_length), x)
+    stress = cfg.beam.youngs_modulus * c_z * np.abs(beam.curvature(q, x, cfg.mechanism.rod_length))
+    if model.params.spatial is not None:
+        q3 = np.asarray(model.block_state(y_state, 2))[:, :model.modes]
+        stress += cfg.beam.youngs_modulus * c_y * np.abs(beam.curvature(q3, x, cfg.mechanism.rod_length))
+    return stress
+
+
 _ENERGY = ("energy", "work_rigid", "work_damping", "work_film", "work_asperity", "work_reaction", "work_contact",
            "work_impacts", "energy_residual", "impact_energy_change", "impact_dissipation", "impact_collar_work")
 
 
 def _energy(result, want, t, y, data):
-    """Add the energy budget's variables (:mod:`lubelink.energy`) to ``data``.
-
-    Returns ``(note, largest residual [J], that residual relative to the largest energy or work)``.
-    """
+    """Add the energy budget's variables (:mod:`lubelink.energy`) to ``data``; return ``(note, largest residual [J],
+    relative to the largest energy or work)``."""
     from . import energy
 
     if not any(name in want for name in _ENERGY):

@@ -165,7 +165,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
     t = 0.0
     y = model.initial_state() if y0 is None else np.array(y0, dtype=float).reshape(model.initial_state().size)
     ts, ys, sides, vs, points = [t_eval[:1]], [y[None, :]], [np.zeros(1)], [np.zeros(1)], [np.zeros(1)]
-    out = Run(model=model, t=None, y=None, method=out_method)
+    out = Run(model=model, t=None, y=None, method=out_method, section=section)
     logic = ContactLogic(model)
     phase = None
     exited = None if y0 is None else domain_exit(model, y[None, :])  # (the rest state is inside)

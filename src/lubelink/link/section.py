@@ -32,7 +32,7 @@ import numpy as np
 from .._jit import jitable
 from ..beam import wavenumbers
 
-__all__ = ["Section", "GalerkinTable", "taper", "galerkin_matrices", "galerkin_table", "physical", "state",
+__all__ = ["Section", "GalerkinTable", "taper", "fibre_distances", "galerkin_matrices", "galerkin_table", "physical", "state",
            "eigen_accelerations", "eigen_rate_bound", "eigen_restitution_jump"]
 
 
@@ -98,6 +98,19 @@ def taper(beam, rod_length) -> Section:
 
     return Section(area=lambda x: width(x) * height(x), second_moment=lambda x: width(x) * height(x) ** 3 / 12.0,
                    second_moment_y=lambda x: height(x) * width(x) ** 3 / 12.0)
+
+
+def fibre_distances(section: Section, x):
+    """``(c_z, c_y)`` [m]: the distances of the outer fibres from the neutral axes at ``x`` [m], for bending in the
+    plane (``u2``, about ``z``) and out of it (``u3``), of a rectangular section: ``c = sqrt(3 I / A)`` (``h / 2``
+    and ``B / 2`` for a ``B`` x ``h`` rectangle). ``I_y`` missing: ``c_y`` NaN."""
+    x = np.asarray(x, dtype=float)
+    area = np.asarray(section.profile("area")(x), dtype=float)
+    c_z = np.sqrt(3.0 * np.asarray(section.profile("second_moment")(x), dtype=float) / area)
+    I_y = section.second_moment_y
+    c_y = np.sqrt(3.0 * np.asarray(section.profile("second_moment_y")(x), dtype=float) / area) if I_y is not None \
+        else np.full(x.shape, np.nan)
+    return c_z, c_y
 
 
 def quadrature(rod_length, modes, nodes=8):
