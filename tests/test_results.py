@@ -138,7 +138,9 @@ def test_a_second_point_reaching_the_face_in_a_sustained_contact_stops_the_run()
     assert "second point" in message and "t = 1.0728" in message
     cfg = config_of(ds)
     m, f = cfg.mechanism, cfg.film
-    assert float(ds["film_min"].min()) > 0.9 * cfg.contact.min_film
+    # the last sample is the event itself, where the film elsewhere on the pad is 0.9 min_film (to round-off)
+    assert float(ds["film_min"][-1]) == pytest.approx(0.9 * cfg.contact.min_film, rel=1e-9)
+    assert float(ds["film_min"][:-1].min()) > 0.9 * cfg.contact.min_film
     held = float(message.split("held it at x = ")[1].split(" m")[0])
     i = ds.time.size - 1
     x0 = float(ds.x_star[i]) - (0.5 * f.pad_length if f.pad_reference == "centre" else 0.0)

@@ -329,7 +329,7 @@ def penetration(t, film_min, side, min_film) -> str:
     the gap (free flight).
     """
     film_min = np.asarray(film_min)
-    below = film_min < (1.0 - PENETRATION) * min_film
+    below = film_min < (1.0 - PENETRATION) * min_film * (1.0 - 1e-9)  # (a run's last sample can be that event itself)
     if not below.any():
         return ""
     i = int(np.argmin(np.where(below, film_min, np.inf)))

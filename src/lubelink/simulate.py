@@ -230,7 +230,7 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
             break
         if t >= s.t_end:
             break
-    if out.status not in ("complete", "out_of_domain") and t > ts[-1][-1]:
+    if out.status not in ("complete", "out_of_domain") and t > max(float(a[-1]) for a in ts if a.size):
         final = model.to_physical(y)  # a run that ends early keeps the state where it stopped as its last sample
         if np.all(np.isfinite(final)):
             ts.append(np.array([t]))
