@@ -259,7 +259,7 @@ def test_a_tapered_link_stores_the_energy_of_its_mass_and_stiffness_matrices():
     from lubelink.link.section import galerkin_matrices, taper
 
     cfg = resolve("paper", {"beam.width_ratio": 0.5, "beam.height_ratio": 0.8, "beam.modes": 3,
-                            "solver.output_step": 2e-5})
+                            "solver.output_step": 2e-5, "solver.t_end": 0.5})
     ds = lubelink.simulate(cfg)
     b, L = cfg.beam, cfg.mechanism.rod_length
     M, K, _, _ = galerkin_matrices(taper(b, L), b.youngs_modulus, b.density, b.modes, L)
