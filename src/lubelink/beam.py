@@ -259,7 +259,10 @@ def curvature(q, x, rod_length):
     """``d2u2/dx2`` [1/m] at ``x``; shapes as :func:`deflection`."""
     q = np.asarray(q, dtype=float)
     beta, bx = _mode_shapes(x, q.shape[-1], rod_length)
-    return -(q @ (beta**2 * np.sin(bx)).T)
+    shapes = -(beta**2 * np.sin(bx)).T
+    if ENABLED and q.ndim == 2:
+        return modal_sum(np.ascontiguousarray(q), np.ascontiguousarray(shapes))
+    return q @ shapes
 
 
 @jitable

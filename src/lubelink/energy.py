@@ -43,6 +43,7 @@ from . import beam
 from .link import section, spatial, spatial_section
 from ._jit import jitable, kernel
 from .beam import wavenumber
+from .film import NO_FILM
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
 from .link.model import effective_acceleration, stiffened
@@ -56,7 +57,7 @@ __all__ = ["LOADS", "powers_given", "spatial_powers_given", "powers_many", "impa
 LOADS = ("rigid", "damping", "film", "asperity", "reaction")
 
 
-@jitable
+@jitable(inline=True)
 def _oscillators(y, W, zeta, m, out):
     """The vibration energy [J] into ``out[0]`` and the damping's power [W] into ``out[2]`` of the integrator's
     state ``y`` (oscillators of frequencies ``W`` [rad/s], mass ``m`` [kg], damping ratio ``zeta``)."""
@@ -68,16 +69,19 @@ def _oscillators(y, W, zeta, m, out):
     out[2] = m * damping
 
 
-@jitable
+@jitable(inline=True)
 def _face_powers(q, q_t, x_star, V_r, p, width, out):
     """Add the powers [W] of the film (``out[3]``) and of the asperity contact (``out[4]``) on one pair of faces
     of sine-mode coordinates ``q``, ``q_t``."""
     F = np.zeros(q.shape[0])
-    film_on(q, q_t, x_star, V_r, p, width, F)
-    out[3] += np.dot(q_t, F)
-    F[:] = 0.0
-    asperity_on(q, x_star, p, width, F)
-    out[4] += np.dot(q_t, F)
+    L = p.basis.rod_length
+    if p.film.model != NO_FILM:
+        film_on(q, q_t, x_star, V_r, p.film, width, p.pad, L, p.model.equations, F)
+        out[3] += np.dot(q_t, F)
+    if p.film.roughness > 0.0:
+        F[:] = 0.0
+        asperity_on(p.rough, q, x_star, p.film, width, p.pad, L, F)
+        out[4] += np.dot(q_t, F)
 
 
 @jitable

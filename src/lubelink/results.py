@@ -432,7 +432,8 @@ def _bending_stress(result, q, y_state, x):
 
     model, cfg = result.model, result.model.config
     c_z, c_y = fibre_distances(result.section or taper(cfg.beam, cfg.mechanism.rod_length), x)
-    stress = cfg.beam.youngs_modulus * c_z * np.abs(beam.curvature(q, x, cfg.mechanism.rod_length))
+    stress = np.abs(beam.curvature(q, x, cfg.mechanism.rod_length))
+    stress *= cfg.beam.youngs_modulus * c_z
     if model.params.spatial is not None:
         q3 = np.asarray(model.block_state(y_state, 2))[:, :model.modes]
         stress += cfg.beam.youngs_modulus * c_y * np.abs(beam.curvature(q3, x, cfg.mechanism.rod_length))

@@ -26,7 +26,7 @@ from ..film import jacobian as film_jacobian
 from ..params import CHOICES
 
 __all__ = ["ContactPhase", "NO_PHASE", "PAD_START", "PAD_END", "contact_point", "contact_position", "phase_side",
-           "in_sustained", "film_on", "asperity_on", "face_loads", "face_jacobian", "compliant_on",
+           "in_sustained", "film_on", "asperity_on", "face_jacobian", "compliant_on",
            "compliant_jacobian_on", "sustained_on", "thinnest_on"]
 
 #: ``model.equations`` code of the printed film sign (Eq. 20's ``+B P``).
@@ -86,40 +86,33 @@ def in_sustained(phase, law):
 
 # --- loads ----------------------------------------------------------------------------------------------
 @jitable(inline=True)
-def film_on(q, q_t, x_star, V_r, p, width, F):
-    """Add the film's modal forces [N] (:func:`lubelink.film.modal_film_force`) to ``F``, which holds no other
-    load yet (the printed film sign of ``model.equations`` reverses ``F``)."""
-    if p.film.model != film.NO_FILM:
-        film.modal_film_force(q, q_t, x_star, V_r, p.film, width, p.pad, p.basis.rod_length, F)
-        if p.model.equations == PRINTED_FILM_SIGN:
-            F *= -1.0
+def film_on(q, q_t, x_star, V_r, f, width, pad, L, equations, F):
+    """Add the film's modal forces [N] (:func:`lubelink.film.modal_film_force` of the film ``f``, pad tables
+    ``pad``, link length ``L``) to ``F``, which holds no other load yet (the printed film sign of ``equations``
+    reverses ``F``). For a film that is on (``f.model`` not ``"none"``).
+
+    The callers test ``f.model`` first: every right-hand side runs these lines, and evaluating ``p.pad`` (whose
+    arrays Numba reference-counts) outside that test cost the dry link's right-hand side 139 -> 162-193 ns.
+    """
+    film.modal_film_force(q, q_t, x_star, V_r, f, width, pad, L, F)
+    if equations == PRINTED_FILM_SIGN:
+        F *= -1.0
 
 
 @jitable
-def _asperity(rough, q, x_star, p, width, F):
-    """:func:`asperity_on` of the roughness ``rough`` (None: smooth surfaces, compiles to nothing)."""
+def asperity_on(rough, q, x_star, f, width, pad, L, F):
+    """Add the asperity contact's modal forces [N] (:func:`lubelink.film.asperity.modal_asperity_force`) to ``F``
+    (``rough``: the parameters' ``rough``, None for smooth surfaces: compiles to nothing). For rough surfaces
+    (``f.roughness > 0``, which the callers test first, as for :func:`film_on`)."""
     if rough is None:
         return
-    asperity.modal_asperity_force(q, x_star, p.film, width, p.pad, p.basis.rod_length, F)
-
-
-@jitable(inline=True)
-def asperity_on(q, x_star, p, width, F):
-    """Add the asperity contact's modal forces [N] (:func:`lubelink.film.asperity.modal_asperity_force`) to ``F``."""
-    if p.film.roughness > 0.0:
-        _asperity(p.rough, q, x_star, p, width, F)
-
-
-@jitable(inline=True)
-def face_loads(q, q_t, x_star, V_r, p, width, F):
-    """Add the film and the asperity contact on the pair to ``F`` [N] (``F`` zero on entry: :func:`film_on`)."""
-    film_on(q, q_t, x_star, V_r, p, width, F)
-    asperity_on(q, x_star, p, width, F)
+    asperity.modal_asperity_force(q, x_star, f, width, pad, L, F)
 
 
 @jitable
 def face_jacobian(q, q_t, x_star, V_r, p, width, Jq, Jv):
-    """Add ``dF/dq`` and ``dF/dq_t`` [N/m, N s/m] of :func:`face_loads` to ``Jq``, ``Jv`` (zero on entry).
+    """Add ``dF/dq`` and ``dF/dq_t`` [N/m, N s/m] of :func:`film_on` and :func:`asperity_on` to ``Jq``, ``Jv`` (zero on
+    entry).
 
     The film of :func:`~lubelink.film.jacobian.has_film_jacobian`
     (:func:`~lubelink.film.jacobian.modal_film_jacobian`) and the asperity contact

@@ -28,8 +28,8 @@ from .. import beam, compliant, contact, film
 from . import section
 from .._jit import jitable, kernel
 from ..errors import BackendError
-from .faces import (ContactPhase, compliant_jacobian_on, compliant_on, face_jacobian, face_loads, in_sustained,
-                    phase_side, sustained_on, thinnest_on)
+from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,
+                    in_sustained, phase_side, sustained_on, thinnest_on)
 from .kinematics import MotionTable, collar_acceleration, motion_at
 from ..params import CHOICES
 from ..beam import wavenumber
@@ -87,7 +87,10 @@ def rhs_given(t, kin, y, out, p):
     q_dot = yq[N:]
     F = out[N:]  # modal forces [N], accumulated here before the accelerations replace them
     F[:] = 0.0
-    face_loads(q, q_dot, x_star, V_r, p, p.beam.width, F)
+    if p.film.model != film.NO_FILM:
+        film_on(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L, p.model.equations, F)
+    if p.film.roughness > 0.0:
+        asperity_on(p.rough, q, x_star, p.film, p.beam.width, p.pad, L, F)
     if reaction != 0.0:
         for n in range(N):
             F[n] += beam.point_load(reaction, x_star, wavenumber(n + 1, L))

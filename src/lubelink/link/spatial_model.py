@@ -34,11 +34,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import contact
+from ..film import NO_FILM
 from .._jit import jitable, kernel
 from ..params import CHOICES
 from . import section, spatial, spatial_section
-from .faces import (ContactPhase, compliant_jacobian_on, compliant_on, face_jacobian, face_loads, in_sustained,
-                    phase_side, sustained_on, thinnest_on)
+from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,
+                    in_sustained, phase_side, sustained_on, thinnest_on)
 from .spatial_motion import SpatialMotion, collar_acceleration_at, spatial_motion_at
 
 __all__ = ["SpatialTable", "spatial_rhs", "spatial_jacobian_given", "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
@@ -83,6 +84,16 @@ def face_of(code):
 
 
 @jitable
+def _face_loads(q, q_t, x_star, V_r, p, width, F):
+    """Add the film and the asperity contact of one pair of faces (:mod:`lubelink.link.faces`) to ``F`` [N] (zero)."""
+    L = p.basis.rod_length
+    if p.film.model != NO_FILM:
+        film_on(q, q_t, x_star, V_r, p.film, width, p.pad, L, p.model.equations, F)
+    if p.film.roughness > 0.0:
+        asperity_on(p.rough, q, x_star, p.film, width, p.pad, L, F)
+
+
+@jitable
 def _compliant_spatial(phase, y, x_star, V_r, p, F):
     """Add the compliant contact force of ``phase`` (None: no compliant law, compiles to nothing) on its face's block."""
     if phase is None:
@@ -117,9 +128,9 @@ def _rhs_in(g, kin, y, out, p):
         yq = spatial_section.physical(g, y)  # the sine-mode state
     F = out[M:]  # modal forces [N] of the three directions, replaced by the accelerations
     F[:] = 0.0
-    face_loads(yq[N:2 * N], yq[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
+    _face_loads(yq[N:2 * N], yq[M + N:M + 2 * N], x_star, V_r, p, p.beam.width, F[N:2 * N])
     if p.film.faces == U2_U3:  # the u3 faces: pad width h
-        face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
+        _face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
     _compliant_spatial(p.phase, yq, x_star, V_r, p, F)
     A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
     if g is None:
