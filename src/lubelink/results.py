@@ -319,13 +319,13 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
             if name in want:
                 data[name] = _entry(name, value)
         data["omega_spatial"] = _entry("omega_spatial", np.reshape(model.state_frequencies, (3, N)))
-    if "bending_stress" in want:
-        data["bending_stress"] = _entry("bending_stress", _bending_stress(result, q, y_state, x))
     coords = {"time": _entry("time", t), "x": _entry("x", x), "mode": _entry("mode", np.arange(1, N + 1))}
     if "omega_spatial" in data:
         coords["direction"] = _entry("direction", np.arange(1, 4))
     fm = cfg.film
     later = {}
+    if "bending_stress" in want:  # beside the others, as the pressure (NumPy and modal_sum release the GIL)
+        later["bending_stress"] = _beside(model.compiled and threads > 1, _bending_stress, result, q, y_state, x)
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
         coords["X"] = _entry("X", X)
