@@ -24,15 +24,14 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import beam, compliant, contact, film
-
-from . import section
 from .._jit import jitable, kernel
+from ..beam import wavenumber
 from ..errors import BackendError
+from ..params import CHOICES
+from . import section
 from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,
                     in_sustained, phase_side, sustained_on, thinnest_on)
 from .kinematics import MotionTable, collar_acceleration, motion_at
-from ..params import CHOICES
-from ..beam import wavenumber
 
 __all__ = ["Params", "Basis", "ContactPhase", "rhs", "gap", "rhs_given", "BackendError"]
 

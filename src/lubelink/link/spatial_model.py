@@ -34,8 +34,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import contact
-from ..film import NO_FILM
 from .._jit import jitable, kernel
+from ..film import NO_FILM
 from ..params import CHOICES
 from . import section, spatial, spatial_section
 from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,

@@ -36,10 +36,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import section
 from .._jit import jitable
-from .spatial import axis_acceleration, frame_terms
 from ..beam import wavenumbers
+from . import section
+from .spatial import axis_acceleration, frame_terms
 
 __all__ = ["SpatialGalerkin", "axial_stiffness", "spatial_galerkin", "physical", "state", "change_basis",
            "eigen_accelerations"]
