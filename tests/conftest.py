@@ -17,6 +17,19 @@ os.environ.setdefault("LUBELINK_FIRST_RUN", "compile")
 SHORT = {"solver.t_end": 0.3, "solver.output_step": 1e-3, "output.x_points": 21, "output.pad_points": 11}
 
 
+def central_differences(f, x, steps):
+    """The Jacobian of ``f`` at ``x`` by central differences of step ``steps[k]`` in ``x[k]`` (the Jacobian tests'
+    second method)."""
+    import numpy as np
+
+    J = np.empty((f(x).size, x.size))
+    for k in range(x.size):
+        e = np.zeros(x.size)
+        e[k] = steps[k]
+        J[:, k] = (f(x + e) - f(x - e)) / (2 * steps[k])
+    return J
+
+
 @pytest.fixture
 def short():
     return dict(SHORT)

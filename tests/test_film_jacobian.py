@@ -16,18 +16,11 @@ from lubelink.film.asperity import asperity_stiffness, f52, greenwood_tripp_inte
 from lubelink.film.force import modal_film_force
 from lubelink.film.jacobian import has_film_jacobian, modal_film_jacobian, squeeze_rate
 from lubelink.link.model import rhs
+from conftest import central_differences
 
 FILMS = [dict(model=m, cavitation=c, sides=s) for m in ("wedge", "wedge+squeeze")
          for c in ("none", "half-sommerfeld") for s in (1, 2)]
 
-
-def _fd(f, x, steps):
-    J = np.empty((f(x).size, x.size))
-    for k in range(x.size):
-        e = np.zeros(x.size)
-        e[k] = steps[k]
-        J[:, k] = (f(x + e) - f(x - e)) / (2 * steps[k])
-    return J
 
 
 @pytest.mark.parametrize("opts", FILMS, ids=lambda o: "-".join(map(str, o.values())))
@@ -50,8 +43,8 @@ def test_film_jacobian_against_finite_differences(opts):
 
         Jq, Jv = np.zeros((N, N)), np.zeros((N, N))
         modal_film_jacobian(q, q_dot, *args, Jq, Jv)
-        Jq_fd = _fd(lambda x: force(x, q_dot), q, np.full(N, 1e-9))
-        Jv_fd = _fd(lambda x: force(q, x), q_dot, np.full(N, 1e-6))
+        Jq_fd = central_differences(lambda x: force(x, q_dot), q, np.full(N, 1e-9))
+        Jv_fd = central_differences(lambda x: force(q, x), q_dot, np.full(N, 1e-6))
         acted = max(acted, np.abs(Jq_fd).max())
         np.testing.assert_allclose(Jq, Jq_fd, rtol=0, atol=1e-6 * max(np.abs(Jq_fd).max(), 1.0))
         if opts["model"] == "wedge":
@@ -80,8 +73,8 @@ def test_rough_film_jacobian_near_contact_against_finite_differences(cavitation)
     q_dot = np.array([2e-3, -1e-3, 5e-4, 3e-4])
     Jq, Jv = np.zeros((N, N)), np.zeros((N, N))
     modal_film_jacobian(q, q_dot, *args, Jq, Jv)
-    Jq_fd = _fd(lambda x: force(x, q_dot), q, np.full(N, 1e-11))
-    Jv_fd = _fd(lambda x: force(q, x), q_dot, np.full(N, 1e-7))
+    Jq_fd = central_differences(lambda x: force(x, q_dot), q, np.full(N, 1e-11))
+    Jv_fd = central_differences(lambda x: force(q, x), q_dot, np.full(N, 1e-7))
     np.testing.assert_allclose(Jq, Jq_fd, rtol=0, atol=1e-6 * np.abs(Jq_fd).max())
     np.testing.assert_allclose(Jv, Jv_fd, rtol=0, atol=1e-6 * np.abs(Jv_fd).max())
     assert np.abs(Jq_fd).max() > 1e3
@@ -114,7 +107,7 @@ def test_model_jacobian_against_finite_differences(sets):
         rhs(t, x, d, p)
         return d
 
-    J_fd = _fd(g, y, np.r_[np.full(n // 2, 1e-10), np.full(n // 2, 1e-7)])
+    J_fd = central_differences(g, y, np.r_[np.full(n // 2, 1e-10), np.full(n // 2, 1e-7)])
     np.testing.assert_allclose(out[n:].reshape(n, n), J_fd, rtol=0, atol=1e-6 * np.abs(J_fd).max())
 
 
@@ -185,8 +178,8 @@ def test_compliant_contact_jacobian_in_a_contact_phase(v_minus):
         return d
 
     J = out[n:].reshape(n, n)
-    J_fd = _fd(g, y, np.r_[np.full(3, 1e-11), np.full(3, 1e-7)])
-    assert np.abs(J[3:, :3] - _fd(lambda z: plain_rhs(model.params, t, z), y, np.r_[np.full(3, 1e-11),
+    J_fd = central_differences(g, y, np.r_[np.full(3, 1e-11), np.full(3, 1e-7)])
+    assert np.abs(J[3:, :3] - central_differences(lambda z: plain_rhs(model.params, t, z), y, np.r_[np.full(3, 1e-11),
                   np.full(3, 1e-7)])[3:, :3]).max() > 1e3  # the contact adds stiffness
     np.testing.assert_allclose(J, J_fd, rtol=0, atol=1e-6 * np.abs(J_fd).max())
 

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import lubelink
+from conftest import central_differences
 from lubelink.link import spatial
 from lubelink.config import resolve
 from lubelink.link.model import rhs, rhs_given
@@ -557,14 +558,6 @@ def test_the_domain_of_the_linear_theory_is_checked_out_of_plane():
     assert r.returncode == 1 and "peak |u3_mid|" in r.stdout and "out_of_domain" in r.stdout
 
 
-def _fd(f, x, steps):
-    J = np.empty((f(x).size, x.size))
-    for k in range(x.size):
-        e = np.zeros(x.size)
-        e[k] = steps[k]
-        J[:, k] = (f(x + e) - f(x - e)) / (2 * steps[k])
-    return J
-
 
 @pytest.mark.parametrize("sets, phase", [
     ({"film.model": "wedge+squeeze", "film.clearance": 1e-4, "film.faces": "u2+u3", "film.sides": 2,
@@ -606,7 +599,7 @@ def test_spatial_jacobian_against_finite_differences(sets, phase):
         return d
 
     J = out[n:].reshape(n, n)
-    J_fd = _fd(g, y, np.r_[np.full(3 * N, 1e-10), np.full(3 * N, 1e-7)])
+    J_fd = central_differences(g, y, np.r_[np.full(3 * N, 1e-10), np.full(3 * N, 1e-7)])
     np.testing.assert_allclose(J, J_fd, rtol=0, atol=1e-6 * np.abs(J_fd).max())
     M = 3 * N
     assert np.abs(J[M:M + N, M + N:M + 2 * N]).max() > 0.0  # Coriolis: axial <- in-plane velocity

@@ -39,11 +39,10 @@ from __future__ import annotations
 import numpy as np
 
 from . import beam
-
-from .link import section, spatial, spatial_section
 from ._jit import jitable, kernel
 from .beam import wavenumber
 from .film import NO_FILM
+from .link import section, spatial, spatial_section
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
 from .link.model import effective_acceleration, stiffened

@@ -426,17 +426,16 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
 
 
 def _bending_stress(result, q, y_state, x):
-    """``E c_z |u2''| (+ E c_y |u3''|)`` [Pa] at the points ``x``, ``c`` of the run's section (``fibre_distances``)."""
-    from . import beam
-    from .link.section import fibre_distances, taper
+    """:func:`~lubelink.link.section.bending_stress` of the run's section (spatial: both directions, a corner) [Pa]."""
+    from .link.section import bending_stress, taper
 
     model, cfg = result.model, result.model.config
-    c_z, c_y = fibre_distances(result.section or taper(cfg.beam, cfg.mechanism.rod_length), x)
-    stress = np.abs(beam.curvature(q, x, cfg.mechanism.rod_length))
-    stress *= cfg.beam.youngs_modulus * c_z
+    E, L = cfg.beam.youngs_modulus, cfg.mechanism.rod_length
+    sec = result.section or taper(cfg.beam, L)
+    stress = bending_stress(sec, E, q, x, L)
     if model.params.spatial is not None:
         q3 = np.asarray(model.block_state(y_state, 2))[:, :model.modes]
-        stress += cfg.beam.youngs_modulus * c_y * np.abs(beam.curvature(q3, x, cfg.mechanism.rod_length))
+        stress += bending_stress(sec, E, q3, x, L, "second_moment_y")
     return stress
 
 

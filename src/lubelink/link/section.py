@@ -30,9 +30,9 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from .._jit import jitable
-from ..beam import wavenumbers
+from ..beam import curvature, wavenumbers
 
-__all__ = ["Section", "GalerkinTable", "taper", "fibre_distances", "galerkin_matrices", "galerkin_table", "physical", "state",
+__all__ = ["Section", "GalerkinTable", "taper", "bending_stress", "galerkin_matrices", "galerkin_table", "physical", "state",
            "eigen_accelerations", "eigen_rate_bound", "eigen_restitution_jump"]
 
 
@@ -100,17 +100,17 @@ def taper(beam, rod_length) -> Section:
                    second_moment_y=lambda x: height(x) * width(x) ** 3 / 12.0)
 
 
-def fibre_distances(section: Section, x):
-    """``(c_z, c_y)`` [m]: the distances of the outer fibres from the neutral axes at ``x`` [m], for bending in the
-    plane (``u2``, about ``z``) and out of it (``u3``), of a rectangular section: ``c = sqrt(3 I / A)`` (``h / 2``
-    and ``B / 2`` for a ``B`` x ``h`` rectangle). ``I_y`` missing: ``c_y`` NaN."""
+def bending_stress(section: Section, youngs_modulus, q, x, rod_length, moment="second_moment"):
+    """The largest bending stress in the section [Pa] at ``x`` [m] of the sine-mode coordinates ``q`` [m], shape
+    ``(..., N)``: ``E c |u''|`` with ``c = sqrt(3 I / A)`` the outer fibre of a rectangle (``h / 2`` of a ``B`` x
+    ``h`` one) for bending with the second moment ``moment`` (``"second_moment"``: in the plane, ``u2``;
+    ``"second_moment_y"``: out of it, ``u3``). Shape ``(..., x.size)``."""
     x = np.asarray(x, dtype=float)
-    area = np.asarray(section.profile("area")(x), dtype=float)
-    c_z = np.sqrt(3.0 * np.asarray(section.profile("second_moment")(x), dtype=float) / area)
-    I_y = section.second_moment_y
-    c_y = np.sqrt(3.0 * np.asarray(section.profile("second_moment_y")(x), dtype=float) / area) if I_y is not None \
-        else np.full(x.shape, np.nan)
-    return c_z, c_y
+    fibre = np.sqrt(3.0 * np.asarray(section.profile(moment)(x), dtype=float)
+                    / np.asarray(section.profile("area")(x), dtype=float))
+    stress = np.abs(curvature(q, x, rod_length))
+    stress *= youngs_modulus * fibre
+    return stress
 
 
 def quadrature(rod_length, modes, nodes=8):
