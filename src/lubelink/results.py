@@ -22,6 +22,7 @@ import numpy as np
 from ._files import atomic_path  # noqa: F401 - found here too
 from .netcdf import (EXISTS, FORMAT_VERSION, NETCDF_SUFFIXES, ResultsFileError, config_of, file_attrs,
                      library_versions, load, output_problem, save, write)
+from .variables import CONVENTIONS, VARIABLE_ATTRS, VARIABLES, Variable, entry as _entry, variable  # noqa: F401
 
 
 __all__ = ["Run", "FORMAT_VERSION", "VARIABLES", "Variable", "Results", "collect", "dataset", "to_dataset", "write", "save", "load",
@@ -56,103 +57,10 @@ class Run:
         return self.status == "complete"
 
 
-class Variable(NamedTuple):
-    """A result variable: dimensions, units (UDUNITS) and long name."""
-
-    dims: tuple
-    units: str
-    long_name: str
-
-
-#: Every variable and coordinate of a results Dataset.
-VARIABLES = {
-    "time": Variable(("time",), "s", "time"),
-    "x": Variable(("x",), "m", "position along the link from the crank pin O"),
-    "mode": Variable(("mode",), "1", "mode number"),
-    "direction": Variable(("direction",), "1", "displacement direction (spatial model): 1 axial u1, 2 in-plane u2, "
-                                               "3 out-of-plane u3"),
-    "X": Variable(("X",), "m", "position along the pad from its start"),
-    "impact": Variable(("impact",), "1", "impact number"),
-    "q": Variable(("time", "mode"), "m", "modal coordinate"),
-    "q_dot": Variable(("time", "mode"), "m s-1", "modal velocity"),
-    "u2": Variable(("time", "x"), "m", "transverse deflection"),
-    "u2_mid": Variable(("time",), "m", "midpoint deflection"),
-    "u1": Variable(("time", "x"), "m", "axial displacement (spatial model)"),
-    "u3": Variable(("time", "x"), "m", "out-of-plane deflection (spatial model)"),
-    "u3_mid": Variable(("time",), "m", "midpoint out-of-plane deflection (spatial model)"),
-    "bending_stress": Variable(("time", "x"), "Pa", "largest bending stress in the section (spatial: at a corner)"),
-    "x_star": Variable(("time",), "m", "collar position along the link"),
-    "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
-    "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
-    "omega_spatial": Variable(("direction", "mode"), "rad s-1", "natural circular frequencies of the axial, "
-                                                               "in-plane and out-of-plane modes (spatial model)"),
-    "film_min": Variable(("time",), "m", "thinnest film on the pad (spatial model: of the u2 faces)"),
-    "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
-                         "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
-    "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
-    "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
-    "asperity_force": Variable(("time",), "N", "resultant asperity contact force on the link along +j "
-                                                "(Greenwood-Tripp, mixed lubrication)"),
-    "film_min_u3": Variable(("time",), "m", "thinnest film of the pair on the u3 faces (spatial model, film.faces "
-                                          "u2+u3)"),
-    "film_force_u3": Variable(("time",), "N", "resultant film force of the pair on the u3 faces on the link along +e3 "
-                                              "(spatial model, film.faces u2+u3)"),
-    "asperity_force_u3": Variable(("time",), "N", "resultant asperity contact force of the u3 faces along +e3 "
-                                                  "(spatial model, film.faces u2+u3)"),
-    "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
-    "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
-                                              "face (sustained or compliant contact)"),
-    "energy": Variable(("time",), "J", "vibration energy of the link relative to its rigid motion (kinetic plus strain)"),
-    "work_rigid": Variable(("time",), "J", "work done on the vibration by the rigid motion's inertial loads and gravity"),
-    "work_damping": Variable(("time",), "J", "work of the structural damping (beam.damping_ratio)"),
-    "work_film": Variable(("time",), "J", "work of the film force on the link"),
-    "work_asperity": Variable(("time",), "J", "work of the asperity contact force on the link"),
-    "work_reaction": Variable(("time",), "J", "work of the collar's joint reaction on the link"),
-    "work_contact": Variable(("time",), "J", "work of the contact force (compliant, or a sustained contact's)"),
-    "work_impacts": Variable(("time",), "J", "change of the vibration energy in the restitution impacts so far"),
-    "energy_residual": Variable(("time",), "J", "energy - energy(0) minus the sum of the works: the balance's "
-                                                "residual (integration and sampling error)"),
-    "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
-    "impact_position": Variable(("impact",), "m", "contact point on the link"),
-    "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
-    "impact_velocity_after": Variable(("impact",), "m s-1",
-                                      "normal approach velocity after impact (negative opening)"),
-    "impact_side": Variable(("impact",), "1", "film side of the contact: 1 the film H/2 - u2 (the link's +j side), "
-                                              "-1 the film H/2 + u2 (its -j side)"),
-    "impact_face": Variable(("impact",), "1", "face pair of the contact (spatial model, film.faces u2+u3): 2 the u2 "
-                                              "faces, 3 the u3 faces (impact_side then the film H/2 -+ u3)"),
-    "impact_energy_change": Variable(("impact",), "J", "change of the link's vibration energy in the impact"),
-    "impact_dissipation": Variable(("impact",), "J", "energy lost at the contact point, in the frame of the collar "
-                                                    "face (>= 0)"),
-    "impact_collar_work": Variable(("impact",), "J", "work of the collar's impulse on the link: energy change plus "
-                                                    "dissipation"),
-}
-
-#: Attributes beyond units and long name, by variable: the CF flag attributes of the flag variables.
-VARIABLE_ATTRS = {
-    "impact_side": {"flag_values": np.array([1, -1], dtype=np.int64),
-                    "flag_meanings": "positive_j_side negative_j_side"},
-    "impact_face": {"flag_values": np.array([2, 3], dtype=np.int64), "flag_meanings": "u2_faces u3_faces"},
-}
-
-#: The CF conventions the results files follow (global attribute ``Conventions``).
-CONVENTIONS = "CF-1.10"
-
-
 #: Gauss-Legendre nodes per piece between two ``X`` of the pad pressure. The film is a sum of
 #: sines of wavelength ``2 L / N`` much longer than a piece, so 4 nodes (exact to degree 7) leave
 #: the pressure within rounding (1e-8 of its peak) of 16 nodes on the paper's runs.
 PRESSURE_NODES = 4
-
-
-def variable(dims, data, units, long_name, **attrs):
-    """``(dims, data, attrs)`` tuple for :class:`xarray.Dataset` construction."""
-    return dims, np.asarray(data), {"units": units, "long_name": long_name, **attrs}
-
-
-def _entry(name, data, **attrs):
-    v = VARIABLES[name]
-    return variable(v.dims, data, v.units, v.long_name, **VARIABLE_ATTRS.get(name, {}), **attrs)
 
 
 @lru_cache(maxsize=1)
@@ -279,7 +187,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     caller that keeps the configuration itself (a sweep point, whose store holds the sweep; the TOML
     text of a configuration seen for the first time costs 0.4 ms).
     """
-    from . import beam, contact, film
+    from . import beam, contact, derived, film
     from .config import to_toml
     from .link.kinematics import collar_many
     from .link.model import thinnest_many
@@ -325,7 +233,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     fm = cfg.film
     later = {}
     if "bending_stress" in want:  # beside the others, as the pressure (NumPy and modal_sum release the GIL)
-        later["bending_stress"] = _beside(model.compiled and threads > 1, _bending_stress, result, q, y_state, x)
+        later["bending_stress"] = _beside(model.compiled and threads > 1, derived.stress_field, result, q, y_state, x)
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
         coords["X"] = _entry("X", X)
@@ -357,13 +265,13 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         data["asperity_force"] = _entry("asperity_force", _select(asperity_force_many, compiled)(
             np.ascontiguousarray(q), x_star, p.film, p.beam.width, p.pad, L))
     if model.params.spatial is not None and fm.faces == "u2+u3":
-        data.update(_u3_faces(model, want, y_state, x_star, V_r))
+        data.update(derived.u3_faces(model, want, y_state, x_star, V_r))
     if cfg.contact.law != "none":
         side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
         data["contact_phase"] = _entry("contact_phase", (side != 0).astype(np.int8),
                                        flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="free contact")
         if "contact_force" in want:
-            data["contact_force"] = _entry("contact_force", _contact_force(result, model, t, y_state, side))
+            data["contact_force"] = _entry("contact_force", derived.contact_force(result, model, t, y_state, side))
     imp = result.impacts
     coords["impact"] = _entry("impact", np.arange(len(imp)))
     data["impact_time"] = _entry("impact_time", [i[0] for i in imp])
@@ -374,7 +282,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     data["impact_side"] = _entry("impact_side", np.sign(codes))  # the spatial model's codes +-2: the u3 faces
     if model.params.spatial is not None and fm.faces == "u2+u3":
         data["impact_face"] = _entry("impact_face", 2 + (np.abs(codes) == 2))
-    energy_note, residual, relative = _energy(result, want, t, np.ascontiguousarray(y_state, dtype=float), data)
+    energy_note, residual, relative = derived.energy_budget(result, want, t, np.ascontiguousarray(y_state, dtype=float), data)
     for name, value in later.items():
         data[name] = _entry(name, value())
     data = {name: data[name] for name in VARIABLES if name in data}
@@ -423,78 +331,3 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
-
-
-def _bending_stress(result, q, y_state, x):
-    """:func:`~lubelink.link.section.bending_stress` of the run's section (spatial: both directions, a corner) [Pa]."""
-    from .link.section import bending_stress, taper
-
-    model, cfg = result.model, result.model.config
-    E, L = cfg.beam.youngs_modulus, cfg.mechanism.rod_length
-    sec = result.section or taper(cfg.beam, L)
-    stress = bending_stress(sec, E, q, x, L)
-    if model.params.spatial is not None:
-        q3 = np.asarray(model.block_state(y_state, 2))[:, :model.modes]
-        stress += bending_stress(sec, E, q3, x, L, "second_moment_y")
-    return stress
-
-
-_ENERGY = ("energy", "work_rigid", "work_damping", "work_film", "work_asperity", "work_reaction", "work_contact",
-           "work_impacts", "energy_residual", "impact_energy_change", "impact_dissipation", "impact_collar_work")
-
-
-def _energy(result, want, t, y, data):
-    """Add the energy budget's variables (:mod:`lubelink.energy`) to ``data``; return ``(note, largest residual [J],
-    relative to the largest energy or work)``."""
-    from . import energy
-
-    if not any(name in want for name in _ENERGY):
-        return "not asked for", np.nan, np.nan
-    side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
-    series, (change, loss, collar), residual = energy.of_run(result, t, y, side)
-    for name, value in series.items():
-        if name in want:
-            data[name] = _entry(name, value)
-    for name, value in (("impact_energy_change", change), ("impact_dissipation", loss),
-                        ("impact_collar_work", collar)):
-        if name in want and result.model.config.contact.law == "restitution":
-            data[name] = _entry(name, value)
-    scale = max(float(np.max(np.abs(value))) for name, value in series.items() if name != "energy_residual")
-    return ("works by Simpson's rule over the samples and the impacts; the residual is the integration error and "
-            "the quadrature error of the sampling (refine solver.output_step if it matters)",
-            residual, residual / scale if scale > 0.0 else 0.0)
-
-
-def _u3_faces(model, want, y_state, x_star, V_r):
-    """The variables of the spatial model's film pair on the ``u3`` faces: the planar batched kernels on the ``q3`` block."""
-    from . import film
-    from .film.asperity import asperity_force_many
-    from .link.model import thinnest_many
-
-    p, N, cfg = model.params, model.modes, model.config
-    L, compiled = cfg.mechanism.rod_length, model.compiled
-    y3 = np.ascontiguousarray(model.block_state(y_state, 2))
-    q3, q3_t = np.ascontiguousarray(y3[:, :N]), np.ascontiguousarray(y3[:, N:])
-    out = {}
-    if (cfg.film.enabled or cfg.contact.law != "none") and "film_min_u3" in want:
-        out["film_min_u3"] = _entry("film_min_u3", _select(thinnest_many, compiled)(x_star, y3, p))
-    if cfg.film.enabled and "film_force_u3" in want:
-        out["film_force_u3"] = _entry("film_force_u3", _select(film.film_force_many, compiled)(
-            q3, q3_t, x_star, V_r, p.film, p.beam.height, p.pad, L))
-    if cfg.film.roughness > 0.0 and "asperity_force_u3" in want:
-        out["asperity_force_u3"] = _entry("asperity_force_u3", _select(asperity_force_many, compiled)(
-            q3, x_star, p.film, p.beam.height, p.pad, L))
-    return out
-
-
-def _contact_force(result, model, t, y, side):
-    """Contact force at every sample [N]: the sustained contact's multiplier or the compliant force, 0 when free."""
-    force = np.zeros(t.size)
-    inside = np.flatnonzero(side != 0)
-    if inside.size == 0:
-        return force
-    if model.config.contact.law == "restitution":
-        force[inside] = model.sustained_force(t[inside], y[inside], side[inside], result.phase_point[inside])
-    else:
-        force[inside] = model.compliant_loads(t[inside], y[inside], side[inside], result.phase_v[inside])[0]
-    return force

@@ -1,0 +1,106 @@
+"""The results' variable registry: every variable and coordinate of a results Dataset, declared once.
+
+The Dataset, the files, the sweep store and the plots read dimensions, units (UDUNITS) and long names here.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["Variable", "VARIABLES", "VARIABLE_ATTRS", "CONVENTIONS", "variable", "entry"]
+
+
+class Variable(NamedTuple):
+    """A result variable: dimensions, units (UDUNITS) and long name."""
+
+    dims: tuple
+    units: str
+    long_name: str
+
+
+#: Every variable and coordinate of a results Dataset.
+VARIABLES = {
+    "time": Variable(("time",), "s", "time"),
+    "x": Variable(("x",), "m", "position along the link from the crank pin O"),
+    "mode": Variable(("mode",), "1", "mode number"),
+    "direction": Variable(("direction",), "1", "displacement direction (spatial model): 1 axial u1, 2 in-plane u2, "
+                                               "3 out-of-plane u3"),
+    "X": Variable(("X",), "m", "position along the pad from its start"),
+    "impact": Variable(("impact",), "1", "impact number"),
+    "q": Variable(("time", "mode"), "m", "modal coordinate"),
+    "q_dot": Variable(("time", "mode"), "m s-1", "modal velocity"),
+    "u2": Variable(("time", "x"), "m", "transverse deflection"),
+    "u2_mid": Variable(("time",), "m", "midpoint deflection"),
+    "u1": Variable(("time", "x"), "m", "axial displacement (spatial model)"),
+    "u3": Variable(("time", "x"), "m", "out-of-plane deflection (spatial model)"),
+    "u3_mid": Variable(("time",), "m", "midpoint out-of-plane deflection (spatial model)"),
+    "bending_stress": Variable(("time", "x"), "Pa", "largest bending stress in the section (spatial: at a corner)"),
+    "x_star": Variable(("time",), "m", "collar position along the link"),
+    "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
+    "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
+    "omega_spatial": Variable(("direction", "mode"), "rad s-1", "natural circular frequencies of the axial, "
+                                                               "in-plane and out-of-plane modes (spatial model)"),
+    "film_min": Variable(("time",), "m", "thinnest film on the pad (spatial model: of the u2 faces)"),
+    "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
+                         "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
+    "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
+    "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
+    "asperity_force": Variable(("time",), "N", "resultant asperity contact force on the link along +j "
+                                                "(Greenwood-Tripp, mixed lubrication)"),
+    "film_min_u3": Variable(("time",), "m", "thinnest film of the pair on the u3 faces (spatial model, film.faces "
+                                          "u2+u3)"),
+    "film_force_u3": Variable(("time",), "N", "resultant film force of the pair on the u3 faces on the link along +e3 "
+                                              "(spatial model, film.faces u2+u3)"),
+    "asperity_force_u3": Variable(("time",), "N", "resultant asperity contact force of the u3 faces along +e3 "
+                                                  "(spatial model, film.faces u2+u3)"),
+    "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
+    "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
+                                              "face (sustained or compliant contact)"),
+    "energy": Variable(("time",), "J", "vibration energy of the link relative to its rigid motion (kinetic plus strain)"),
+    "work_rigid": Variable(("time",), "J", "work done on the vibration by the rigid motion's inertial loads and gravity"),
+    "work_damping": Variable(("time",), "J", "work of the structural damping (beam.damping_ratio)"),
+    "work_film": Variable(("time",), "J", "work of the film force on the link"),
+    "work_asperity": Variable(("time",), "J", "work of the asperity contact force on the link"),
+    "work_reaction": Variable(("time",), "J", "work of the collar's joint reaction on the link"),
+    "work_contact": Variable(("time",), "J", "work of the contact force (compliant, or a sustained contact's)"),
+    "work_impacts": Variable(("time",), "J", "change of the vibration energy in the restitution impacts so far"),
+    "energy_residual": Variable(("time",), "J", "energy - energy(0) minus the sum of the works: the balance's "
+                                                "residual (integration and sampling error)"),
+    "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
+    "impact_position": Variable(("impact",), "m", "contact point on the link"),
+    "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),
+    "impact_velocity_after": Variable(("impact",), "m s-1",
+                                      "normal approach velocity after impact (negative opening)"),
+    "impact_side": Variable(("impact",), "1", "film side of the contact: 1 the film H/2 - u2 (the link's +j side), "
+                                              "-1 the film H/2 + u2 (its -j side)"),
+    "impact_face": Variable(("impact",), "1", "face pair of the contact (spatial model, film.faces u2+u3): 2 the u2 "
+                                              "faces, 3 the u3 faces (impact_side then the film H/2 -+ u3)"),
+    "impact_energy_change": Variable(("impact",), "J", "change of the link's vibration energy in the impact"),
+    "impact_dissipation": Variable(("impact",), "J", "energy lost at the contact point, in the frame of the collar "
+                                                    "face (>= 0)"),
+    "impact_collar_work": Variable(("impact",), "J", "work of the collar's impulse on the link: energy change plus "
+                                                    "dissipation"),
+}
+
+#: Attributes beyond units and long name, by variable: the CF flag attributes of the flag variables.
+VARIABLE_ATTRS = {
+    "impact_side": {"flag_values": np.array([1, -1], dtype=np.int64),
+                    "flag_meanings": "positive_j_side negative_j_side"},
+    "impact_face": {"flag_values": np.array([2, 3], dtype=np.int64), "flag_meanings": "u2_faces u3_faces"},
+}
+
+#: The CF conventions the results files follow (global attribute ``Conventions``).
+CONVENTIONS = "CF-1.10"
+
+
+def variable(dims, data, units, long_name, **attrs):
+    """``(dims, data, attrs)`` tuple for :class:`xarray.Dataset` construction."""
+    return dims, np.asarray(data), {"units": units, "long_name": long_name, **attrs}
+
+
+def entry(name, data, **attrs):
+    """The ``(dims, data, attrs)`` tuple of registered variable ``name``."""
+    v = VARIABLES[name]
+    return variable(v.dims, data, v.units, v.long_name, **VARIABLE_ATTRS.get(name, {}), **attrs)
