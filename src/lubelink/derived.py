@@ -3,6 +3,8 @@ face pair of the spatial link, the contact force (called by :func:`lubelink.resu
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from .variables import entry as _entry
@@ -10,6 +12,35 @@ from .variables import entry as _entry
 
 def _select(kernel, compiled):
     return kernel if compiled else kernel.py_func
+
+
+#: Pieces of the pad between the points where :func:`film_losses` takes the pressure (even): the extrapolated
+#: midpoint rule's error falls as their number to the fourth, 2e-7 of the friction and the power loss at 16 on a
+#: squeeze film deflected by three modes (tests/test_shear.py).
+LOSS_PIECES = 16
+
+
+def film_losses(model, q, q_dot, x_star, V_r):
+    """``(friction [N], power loss [W], moment [N m])`` of the films: their viscous shear on the link along +i, shape
+    ``(sides, T)``, the power they dissipate and the moment of their pressure on the link about O (+k), both sides
+    summed (:func:`lubelink.film.shear.film_losses_many`; the 1-D film only)."""
+    from .film import pad_pressure_many, pressure_points
+    from .film.shear import film_losses_many, midpoint_tables
+
+    cfg, p, compiled = model.config, model.params, model.compiled
+    fm, L, N = cfg.film, cfg.mechanism.rod_length, model.modes
+    X = np.linspace(0.0, fm.pad_length, LOSS_PIECES + 1)
+    tables = pressure_points(X, N, L, 4, fm.grid_points if fm.cavitation == "reynolds" else 0)
+    mid = midpoint_tables(X, N, L)
+    friction, loss, moment = [], np.zeros(q.shape[0]), np.zeros(q.shape[0])
+    for side in model.sides:
+        pressure = _select(pad_pressure_many, compiled)(X, q, q_dot, x_star, V_r, float(side), p.film, L, *tables)
+        f, d, m = _select(film_losses_many, compiled)(X, pressure, q, x_star, V_r, float(side), p.film, p.beam.width,
+                                                      L, *mid)
+        friction.append(f)
+        loss += d
+        moment += m
+    return np.array(friction), loss, moment
 
 
 def stress_field(result, q, y_state, x):
@@ -85,3 +116,147 @@ def contact_force(result, model, t, y, side):
     else:
         force[inside] = model.compliant_loads(t[inside], y[inside], side[inside], result.phase_v[inside])[0]
     return force
+
+
+@lru_cache(maxsize=16)
+def _uniform_inertia(beam, rod_length, modes):
+    """:func:`~lubelink.link.reactions.link_inertia` of the link of ``beam`` (its taper), once per configuration."""
+    from .link.reactions import link_inertia
+    from .link.section import taper
+
+    return link_inertia(taper(beam, rod_length), beam.density, rod_length, modes)
+
+
+#: The joint reactions' variables (:func:`joint_reactions`).
+REACTIONS = ("crank_pin_force_X", "crank_pin_force_Y", "slider_pin_force", "collar_force", "guide_force")
+
+
+def reactions_apply(model):
+    """Why the joint reactions are not computed for ``model``, or ``""``: the planar slider-crank with a 1-D film."""
+    from .link.kinematics import SLIDER_CRANK
+
+    table = model.motion.table()
+    if model.params.spatial is not None:
+        return "the spatial link"
+    if table is None or table.kind != SLIDER_CRANK:
+        return "a motion other than the slider-crank's"
+    if model.config.film.enabled and model.config.film.reynolds != "1d":
+        return "a film of finite width"
+    return ""
+
+
+def joint_reactions(result, t, y, losses, data):
+    """The forces of the crank pin, the slider pin and the collar on the link and the guide's force on the collar's
+    member [N] at the samples (:func:`lubelink.link.reactions.joint_reactions`), for the variables of :data:`REACTIONS`.
+
+    ``y``: sine-mode states; ``losses``: :func:`film_losses`' ``(friction per side, loss, moment)`` (None without a
+    film); ``data`` holds ``film_force``, ``asperity_force`` and ``contact_force`` where they apply. The collar's loads:
+    the film's pressure (its resultant and moment), the films' shear at the faces ``+-c`` from the axis (``c``, the
+    outer fibre), the asperity and contact forces at the thinnest film's point (a sustained contact's at its point)
+    and the joint reaction of the collar's mass at ``x_star``.
+    """
+    from .link.kinematics import motion_at
+    from .link.model import rates_many
+    from .link.reactions import crank_pin_acceleration, joint_reactions as reactions, link_inertia
+    from .link.section import taper
+
+    model, cfg = result.model, result.model.config
+    N, L, m = model.modes, cfg.mechanism.rod_length, cfg.mechanism
+    kin = motion_at(t, model.params.motion)  # (its Python source: the slider-crank's closed form, elementwise)
+    rates = _select(rates_many, model.compiled)(t, np.ascontiguousarray(model.to_state(y)), model.params)
+    side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
+    phase = (side, result.phase_v if result.phase_v is not None else np.zeros(t.size),
+             result.phase_point if result.phase_point is not None else np.zeros(t.size))
+    for i in np.flatnonzero(side):
+        rates[i] = model.rhs(t[i], model.to_state(y[i]), (phase[0][i], phase[1][i], phase[2][i]))
+    q_ddot = model.to_physical(rates)[:, N:]
+    sec = result.section or taper(cfg.beam, L)
+    normal = kin.reaction * np.ones(t.size)
+    moment = normal * kin.x_star
+    along = np.zeros(t.size)
+    if losses is not None:
+        fibre = np.sqrt(3.0 * sec.profile("second_moment")(kin.x_star) / sec.profile("area")(kin.x_star))
+        friction, _, film_moment = losses
+        for s, f in zip(model.sides, friction):
+            along += f
+            moment -= s * fibre * f
+        normal = normal + data["film_force"][1]
+        moment += film_moment
+    point_loads = np.zeros(t.size)
+    if "asperity_force" in data:
+        point_loads += data["asperity_force"][1]
+    if "contact_force" in data:
+        point_loads -= side * data["contact_force"][1]
+    if np.any(point_loads):
+        lever = np.array([model.contact_position(t[i], phase_i) if cfg.contact.law == "restitution" and s != 0 else
+                          model.thinnest_film(t[i], y[i])[1] if point_loads[i] != 0.0 else 0.0
+                          for i, (s, phase_i) in enumerate(zip(side, zip(*phase)))])
+        normal = normal + point_loads
+        moment += point_loads * lever
+    inertia = (_uniform_inertia(cfg.beam, L, N) if result.section is None
+               else link_inertia(sec, cfg.beam.density, L, N))
+    X, Y, C = reactions(inertia, L, kin.angle, crank_pin_acceleration(t, m.crank_length, m.crank_speed), kin.omega,
+                        kin.alpha, y[:, :N], y[:, N:], q_ddot, (along, normal, moment), m.gravity)
+    c, s = np.cos(kin.angle), np.sin(kin.angle)
+    return {"crank_pin_force_X": X, "crank_pin_force_Y": Y, "slider_pin_force": C, "collar_force": normal,
+            "guide_force": along * c - normal * s}
+
+
+def crank_period(model):
+    """The crank's period [s] of a slider-crank (planar or spatial), or None for another motion."""
+    from .link.kinematics import SliderCrank
+    from .link.spatial_motion import SpatialSliderCrank
+
+    if isinstance(model.motion, (SliderCrank, SpatialSliderCrank)):
+        return 2.0 * np.pi / abs(model.config.mechanism.crank_speed)
+    return None
+
+
+#: The per-revolution variables (:func:`revolutions`) and the series each reads.
+PER_REVOLUTION = {"revolution_peak_u2_mid": "u2_mid", "revolution_peak_stress": "bending_stress",
+                  "revolution_film_min": "film_min", "revolution_film_loss": "film_power_loss",
+                  "revolution_energy_lost": None}
+
+
+def revolutions(t, period, data, impacts_lost):
+    """Statistics of each whole revolution of the crank in the samples ``t`` [s]: ``{name: values}`` of
+    :data:`PER_REVOLUTION` (those whose series ``data`` holds) and ``revolution_start`` [s].
+
+    Peaks and the thinnest film over the samples of ``[(k - 1) T, k T)``; the film's loss is the integral of its power
+    (trapezoidal rule, its cumulative integral interpolated at the revolution's ends); the energy lost adds the
+    structural damping's dissipation (``-work_damping``) and the impacts' (``impacts_lost``: ``(time, loss)``).
+    """
+    count = int(np.floor(t[-1] / period * (1.0 + 1e-12))) if t.size > 1 else 0
+    out = {"revolution_start": period * np.arange(count)}
+    edges = period * np.arange(count + 1)
+    starts = np.searchsorted(t, edges - 1e-12 * period)
+    if count == 0 or np.any(np.diff(starts) < 2):  # samples sparser than the crank's turns: no statistics
+        return out
+
+    def over(series, reduce):
+        return reduce.reduceat(series[:starts[-1]], starts[:-1])
+
+    def integral(power):
+        cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t))])
+        return np.diff(np.interp(edges, t, cumulative))
+
+    for name, source in PER_REVOLUTION.items():
+        if source is None or source not in data:
+            continue
+        series = np.asarray(data[source][1])
+        if name == "revolution_peak_stress":
+            out[name] = over(series.max(axis=-1) if series.ndim > 1 else series, np.maximum)
+        elif name == "revolution_peak_u2_mid":
+            out[name] = over(np.abs(series), np.maximum)
+        elif name == "revolution_film_min":
+            out[name] = over(series, np.minimum)
+        else:
+            out[name] = integral(series)
+    lost = out.get("revolution_film_loss", np.zeros(count)).copy()
+    if "work_damping" in data:
+        lost -= np.diff(np.interp(edges, t, np.asarray(data["work_damping"][1])))
+    when, loss = impacts_lost
+    if len(when):
+        lost += np.histogram(when, bins=edges, weights=loss)[0]
+    out["revolution_energy_lost"] = lost
+    return out

@@ -66,10 +66,13 @@ def write(results, path, overwrite=False):
                     sizes[dim] = n
             for dim, n in sizes.items():
                 nc.createDimension(dim, n)
+            beside = {name: set(dims) for name, (dims, _, _) in results.coords.items() if dims != (name,)}
             for name, (dims, data, attrs) in list(results.coords.items()) + list(results.data_vars.items()):
                 data = np.asarray(data)
                 var = nc.createVariable(name, data.dtype, dims, zlib=bool(data.size), complevel=COMPRESSION)
-                var.setncatts(attrs)
+                auxiliary = " ".join(c for c, on in beside.items() if name in results.data_vars and on <= set(dims))
+                var.setncatts({**attrs, "coordinates": auxiliary} if auxiliary else attrs)  # (CF: coordinates
+                # beside an index, such as crank_angle beside time, are named by the variables that have them)
                 if data.size:
                     var[...] = data
             nc.setncatts(file_attrs(results.attrs))

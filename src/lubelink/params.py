@@ -71,6 +71,8 @@ FIELDS = {
     "beam.width_ratio": ("1", "", "linear taper: width at x = L over width at x = 0 (1: uniform)"),
     "beam.height_ratio": ("1", "", "linear taper: height at x = L over height at x = 0 (1: uniform)"),
     "beam.model": ("", "", "planar: u2 only (paper Eq. 18); spatial: u1, u2, u3 (docs/spatial.md)"),
+    "beam.yield_strength": ("Pa", "sigma_y", "yield strength of the link's material (inf: not given); the summary "
+                                             "compares the peak bending stress with it"),
     "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
     "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
     "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),
@@ -185,6 +187,9 @@ class Beam:
     model : str
         ``"planar"``: in-plane bending ``u2`` only (docs/model.md); ``"spatial"``: axial
         ``u1`` and bending ``u2``, ``u3`` under the spatial slider-crank (docs/spatial.md).
+    yield_strength : float
+        Yield strength of the material [Pa] (``sigma_y``); inf: not given. The results compare the peak bending
+        stress with it (``stress_utilisation``).
     """
 
     youngs_modulus: float = 207e9
@@ -196,6 +201,7 @@ class Beam:
     width_ratio: float = 1.0
     height_ratio: float = 1.0
     model: str = "planar"
+    yield_strength: float = math.inf
 
     @property
     def area(self) -> float:

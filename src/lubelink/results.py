@@ -155,13 +155,16 @@ def dataset(results: Results):
     import xarray as xr
 
     direct = getattr(xr.Dataset, "_construct_direct", None)
-    if direct is not None and all(dims == (name,) for name, (dims, _, _) in results.coords.items()):
+    if direct is not None:
         try:
             import pandas as pd
             from xarray.core.indexes import PandasIndex
 
             variables, indexes = {}, {}
             for name, (dims, data, attrs) in results.coords.items():
+                if dims != (name,):  # a coordinate beside an index (crank_angle beside time): no index of its own
+                    variables[name] = xr.Variable(dims, data, attrs, fastpath=True)
+                    continue
                 # the pandas.Index named already and its dtype given (fastpath): the index neither
                 # re-cast nor copied to name it (4 coordinates 0.36 -> 0.23 ms); from a NumPy array 1.5x
                 index = pd.Index(data, copy=False, name=name)
@@ -193,6 +196,8 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     from .link.model import thinnest_many
 
     want = VARIABLES.keys() if variables is None else set(variables)
+    if any(name in want for name in derived.REACTIONS):
+        want = set(want) | {"film_force", "film_friction", "asperity_force", "contact_force"}
     model = result.model
     cfg = model.config
     p = model.params
@@ -251,6 +256,8 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
                 if name in want:
                     data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, p.beam.width,
                                                        L, p.pad.grid_trig, p.pad.zsin))
+        if fm.reynolds == "1d" and ("film_friction" in want or "film_power_loss" in want):
+            later["film_losses"] = _beside(compiled and threads > 1, derived.film_losses, model, q, q_dot, x_star, V_r)
         if "film_force" in want:
             force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
             data["film_force"] = _entry("film_force", force)
@@ -283,8 +290,29 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     if model.params.spatial is not None and fm.faces == "u2+u3":
         data["impact_face"] = _entry("impact_face", 2 + (np.abs(codes) == 2))
     energy_note, residual, relative = derived.energy_budget(result, want, t, np.ascontiguousarray(y_state, dtype=float), data)
+    losses = None
     for name, value in later.items():
-        data[name] = _entry(name, value())
+        if name == "film_losses":
+            losses = value()
+            friction, loss, _ = losses
+            for name, series in (("film_friction", friction.sum(axis=0)), ("film_power_loss", loss)):
+                if name in want:
+                    data[name] = _entry(name, series)
+        else:
+            data[name] = _entry(name, value())
+    if any(name in want for name in derived.REACTIONS) and not derived.reactions_apply(model):
+        for name, value in derived.joint_reactions(result, t, y, losses if fm.enabled else None, data).items():
+            if name in want:
+                data[name] = _entry(name, value)
+    period = derived.crank_period(model)
+    if period is not None:
+        coords["crank_angle"] = _entry("crank_angle", cfg.mechanism.crank_speed * t)
+        lost = (data["impact_time"][1], data["impact_dissipation"][1]) if "impact_dissipation" in data else ((), ())
+        stats = derived.revolutions(t, period, data, lost)
+        coords["revolution"] = _entry("revolution", np.arange(1, stats["revolution_start"].size + 1))
+        for name, value in stats.items():
+            if name == "revolution_start" or name in want:
+                data[name] = _entry(name, value)
     data = {name: data[name] for name in VARIABLES if name in data}
     warning = ""
     if cfg.contact.law == "restitution":
@@ -328,6 +356,14 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         "energy_residual_units": "J",
         "energy_residual_relative": relative,
         "energy_note": energy_note,
+        "stress_utilisation": _utilisation(data, cfg.beam.yield_strength),
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)
+
+
+def _utilisation(data, yield_strength):
+    """Peak bending stress over the yield strength [-] (NaN: no yield strength given, or no stress computed)."""
+    if "bending_stress" not in data or not np.isfinite(yield_strength) or not np.size(data["bending_stress"][1]):
+        return np.nan
+    return float(np.max(data["bending_stress"][1])) / yield_strength

@@ -39,12 +39,29 @@ def summary(r, source, path, wall):
     if "bending_stress" in r and np.size(r["bending_stress"]):
         s = np.asarray(r["bending_stress"])
         k = np.unravel_index(int(np.argmax(s)), s.shape)
+        utilisation = a.get("stress_utilisation", np.nan)
         rows.append(("peak stress", f"{1e-6 * s[k]:.4g} MPa (bending) at x = {float(np.asarray(r['x'])[k[1]]):.4g} m, "
-                                    f"t = {float(t[k[0]]):.4f} s"))
+                                    f"t = {float(t[k[0]]):.4f} s" + (f", {100 * utilisation:.3g} % of the yield "
+                                    f"strength beam.yield_strength" if np.isfinite(utilisation) else "")))
+        if utilisation >= 1.0:
+            rows.append(("warning", "the bending stress exceeds the yield strength: the link yields (the model is "
+                                    "elastic and says no more past that)"))
     if "pressure" in r:
         rows.append(("film", f"thinnest {1e3 * float(r['film_min'].min()):.4f} mm, peak gauge pressure "
                              f"{1e-3 * float(np.abs(r['pressure']).max()):.4g} kPa, peak force "
                              f"{float(np.abs(r['film_force']).max()):.4g} N"))
+    if "film_power_loss" in r and np.size(r["film_power_loss"]):
+        loss = np.asarray(r["film_power_loss"])
+        per_rev = (f", {float(np.mean(r['revolution_film_loss'])):.4g} J a revolution"
+                   if "revolution_film_loss" in r and np.size(r["revolution_film_loss"]) else "")
+        rows.append(("film losses", f"friction up to {float(np.abs(r['film_friction']).max()):.4g} N, power lost "
+                                    f"{float(np.mean(loss)):.4g} W on average (peak {float(loss.max()):.4g} W){per_rev}"))
+    if "slider_pin_force" in r and np.size(r["slider_pin_force"]):
+        crank = np.hypot(np.asarray(r["crank_pin_force_X"]), np.asarray(r["crank_pin_force_Y"]))
+        rows.append(("joint forces", f"peak crank pin {float(crank.max()):.4g} N, slider pin "
+                                     f"{float(np.abs(r['slider_pin_force']).max()):.4g} N, collar "
+                                     f"{float(np.abs(r['collar_force']).max()):.4g} N, guide "
+                                     f"{float(np.abs(r['guide_force']).max()):.4g} N"))
     n_imp = int(a["impact_count"])
     times = ", ".join(f"{t:.4f}" for t in r["impact_time"][:5]) + (" ..." if n_imp > 5 else "")
     rows.append(("impacts", f"{n_imp}" + (f" (t = {times} s)" if n_imp else "")))

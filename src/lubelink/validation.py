@@ -82,6 +82,7 @@ RULES = {
         "width_ratio": _num(0.01, 100),
         "height_ratio": _num(0.01, 100),
         "model": _choice(CHOICES["beam.model"]),
+        "yield_strength": _num(0, None, lo_open=True, allow_inf=True),
     },
     "film": {
         "model": _choice(CHOICES["film.model"]),

@@ -23,6 +23,8 @@ class Variable(NamedTuple):
 #: Every variable and coordinate of a results Dataset.
 VARIABLES = {
     "time": Variable(("time",), "s", "time"),
+    "crank_angle": Variable(("time",), "rad", "crank angle phi = omega0 t (slider-crank)"),
+    "revolution": Variable(("revolution",), "1", "whole revolution of the crank: the k-th spans [(k - 1) T, k T)"),
     "x": Variable(("x",), "m", "position along the link from the crank pin O"),
     "mode": Variable(("mode",), "1", "mode number"),
     "direction": Variable(("direction",), "1", "displacement direction (spatial model): 1 axial u1, 2 in-plane u2, "
@@ -55,9 +57,19 @@ VARIABLES = {
                                               "(spatial model, film.faces u2+u3)"),
     "asperity_force_u3": Variable(("time",), "N", "resultant asperity contact force of the u3 faces along +e3 "
                                                   "(spatial model, film.faces u2+u3)"),
+    "film_friction": Variable(("time",), "N", "viscous shear force of the films on the link along +i (1-D film)"),
+    "film_power_loss": Variable(("time",), "W", "power dissipated in the films by viscous shear (1-D film)"),
     "contact_phase": Variable(("time",), "1", "contact phase of the sample: 0 free, 1 in contact with the collar"),
     "contact_force": Variable(("time",), "N", "contact force of the collar on the link, pushing it from the collar "
                                               "face (sustained or compliant contact)"),
+    "crank_pin_force_X": Variable(("time",), "N", "force of the crank pin on the link along +X (planar slider-crank)"),
+    "crank_pin_force_Y": Variable(("time",), "N", "force of the crank pin on the link along +Y (planar slider-crank)"),
+    "slider_pin_force": Variable(("time",), "N", "force of the slider pin on the link along +Y (planar slider-crank; "
+                                                 "a massless, frictionless slider)"),
+    "collar_force": Variable(("time",), "N", "resultant normal load of the collar on the link along +j: film, "
+                                             "asperity and contact forces and the collar mass's joint reaction"),
+    "guide_force": Variable(("time",), "N", "force of the vertical guide on the collar's member along +X: the "
+                                            "collar's loads on the link, normal and shear, along X"),
     "energy": Variable(("time",), "J", "vibration energy of the link relative to its rigid motion (kinetic plus strain)"),
     "work_rigid": Variable(("time",), "J", "work done on the vibration by the rigid motion's inertial loads and gravity"),
     "work_damping": Variable(("time",), "J", "work of the structural damping (beam.damping_ratio)"),
@@ -68,6 +80,13 @@ VARIABLES = {
     "work_impacts": Variable(("time",), "J", "change of the vibration energy in the restitution impacts so far"),
     "energy_residual": Variable(("time",), "J", "energy - energy(0) minus the sum of the works: the balance's "
                                                 "residual (integration and sampling error)"),
+    "revolution_start": Variable(("revolution",), "s", "time the revolution starts"),
+    "revolution_peak_u2_mid": Variable(("revolution",), "m", "largest midpoint deflection |u2_mid| in the revolution"),
+    "revolution_peak_stress": Variable(("revolution",), "Pa", "largest bending stress in the revolution"),
+    "revolution_film_min": Variable(("revolution",), "m", "thinnest film in the revolution"),
+    "revolution_film_loss": Variable(("revolution",), "J", "energy dissipated in the films in the revolution"),
+    "revolution_energy_lost": Variable(("revolution",), "J", "energy lost in the revolution: in the films, by "
+                                                             "structural damping and in impacts"),
     "impact_time": Variable(("impact",), "s", "impact time (contact start)"),
     "impact_position": Variable(("impact",), "m", "contact point on the link"),
     "impact_velocity": Variable(("impact",), "m s-1", "normal approach velocity before impact (positive closing)"),

@@ -327,3 +327,13 @@ def thinnest_many(x_star, y, p):
     for i in range(x_star.shape[0]):
         out[i] = thinnest_given(x_star[i], y[i], p)[0]
     return out
+
+
+@kernel
+def rates_many(t, y, p):
+    """``dy/dt`` [SI] at many samples ``t`` ``(T,)`` of integrator states ``y`` ``(T, 2N)``, free of contact
+    (:func:`rhs_given`; the results' joint reactions read the accelerations)."""
+    out = np.empty(y.shape)
+    for i in range(t.shape[0]):
+        rhs_given(t[i], motion_at(t[i], p.motion), y[i], out[i], p)
+    return out
