@@ -203,7 +203,7 @@ def _energy_terms(ds, cfg):
     weights = 0.5 * f.pad_length * w
     V_a = b.width * K * f.contact_modulus * f.roughness * 2 / 7 * (f72_closed_form(xi / f.roughness) @ weights)
     modal = 0.5 * m * np.sum(q_dot**2 + (omega * q) ** 2, axis=1)
-    X = ds.X.values
+    X = ds.x_pad.values
     u_t = q_dot @ np.sin(np.outer(beta, BALANCE_X_STAR + X))
     power = -b.width * integrate.simpson(ds.pressure.values * u_t, x=X, axis=1)
     return modal - q @ Q + V_a, V_a, power, -q @ Q

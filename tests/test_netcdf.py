@@ -52,6 +52,24 @@ def test_load_rejects_foreign_files(tmp_path):
         lubelink.load(tmp_path / "none.nc")
 
 
+def test_a_file_of_format_1_0_reads_its_pad_coordinate_X_as_x_pad(ds, tmp_path):
+    """Format 1.0 named the pad's coordinate ``X``, which differs from the link's ``x`` only by case
+    (CF 2.3 warns of such names); such a file loads with the name of format 1.1."""
+    import netCDF4
+
+    assert ds.pressure.dims == ("time", "x_pad") and "X" not in ds.variables
+    path = tmp_path / "old.nc"  # the layout of format 1.0, written by xarray (netCDF4's renaming in place
+    old = ds.rename({"x_pad": "X"})  # of a coordinate variable loses its values in HDF5)
+    old.attrs["lubelink_format"] = "1.0"
+    old.to_netcdf(path)
+    with netCDF4.Dataset(path) as nc:
+        assert "X" in nc.variables and nc["pressure"].dimensions == ("time", "X")
+    back = lubelink.load(path)
+    assert "X" not in back.variables and back.pressure.dims == ("time", "x_pad")
+    np.testing.assert_array_equal(back.x_pad.values, ds.x_pad.values)
+    np.testing.assert_array_equal(back.pressure.values, ds.pressure.values)
+
+
 def test_config_of_a_foreign_dataset_is_a_clear_error(ds):
     with pytest.raises(ResultsFileError, match="no 'config' attribute"):
         config_of(xr.Dataset({"a": ("t", [1.0])}))
@@ -167,6 +185,8 @@ def test_files_follow_the_cf_conventions(impact_results, tmp_path):
             for package in ("numpy", "scipy", "numba", "netCDF4", "netCDF-C", "HDF5"):
                 assert re.search(rf"\b{re.escape(package)} \d", versions), (package, versions)
             flags = 0
+            names = list(nc.variables) + list(nc.dimensions)
+            assert len({n.lower() for n in names}) == len(set(names)), names  # CF 2.3: none differ only by case
             for name, var in nc.variables.items():
                 assert re.fullmatch(CF_NAME, name), name
                 assert var.long_name, name

@@ -81,7 +81,7 @@ def test_fig8_pressure_vanishes_at_the_pad_edges_and_integrates_to_the_film_forc
     p = ds.pressure.values
     assert np.abs(p[:, [0, -1]]).max() <= 1e-9 * np.abs(p).max()  # P = p_am at both edges
     B = lubelink.results.config_of(ds).beam.width
-    X = ds.X.values
+    X = ds.x_pad.values
     force = -B * np.sum(0.5 * (p[:, 1:] + p[:, :-1]) * np.diff(X), axis=1)
     # trapezoid on 11 pad points against the model's Gauss-Legendre force: a few per cent
     assert np.abs(force - ds.film_force.values).max() < 0.05 * np.abs(ds.film_force.values).max()

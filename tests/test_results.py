@@ -16,10 +16,10 @@ def ds():
 
 def test_layout_units_and_provenance(ds):
     for name in ["q", "q_dot", "u2", "u2_mid", "x_star", "V_r", "pressure", "film_force", "film_min",
-                 "impact_time", "impact_velocity", "time", "x", "mode", "X"]:
+                 "impact_time", "impact_velocity", "time", "x", "mode", "x_pad"]:
         assert name in ds.variables, name
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
-    assert ds.u2.dims == ("time", "x") and ds.pressure.dims == ("time", "X")
+    assert ds.u2.dims == ("time", "x") and ds.pressure.dims == ("time", "x_pad")
     assert ds.attrs["status"] == "complete"
     assert "[beam]" in ds.attrs["config"] and ds.attrs["lubelink_format"]
     assert config_of(ds) == lubelink.resolve_config("paper", {k: v for k, v in

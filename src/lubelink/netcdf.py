@@ -19,10 +19,15 @@ import numpy as np
 from ._files import atomic_path, read_netcdf, target_problem
 
 __all__ = ["FORMAT_VERSION", "ResultsFileError", "write", "save", "load", "config_of", "output_problem",
-           "NETCDF_SUFFIXES", "EXISTS", "COMPRESSION", "file_attrs", "library_versions"]
+           "NETCDF_SUFFIXES", "EXISTS", "COMPRESSION", "file_attrs", "library_versions", "RENAMED", "renamed"]
 
 #: Version of the results layout; :func:`load` refuses other major versions.
-FORMAT_VERSION = "1.0"
+FORMAT_VERSION = "1.1"
+
+#: Names of earlier minor versions of the layout and their names now: :func:`load` and
+#: :func:`lubelink.sweep.load_sweep` read the old names as the new. Format 1.0 named the pad's
+#: coordinate ``X``, which CF readers confuse with the link's ``x`` (names differing only by case).
+RENAMED = {"X": "x_pad"}
 
 
 class ResultsFileError(ValueError):
@@ -150,7 +155,13 @@ def load(path):
     if version.split(".")[0] != FORMAT_VERSION.split(".")[0]:
         raise ResultsFileError(f"{path}: results format {version or 'missing'}, "
                                f"this lubelink reads format {FORMAT_VERSION}")
-    return ds
+    return renamed(ds)
+
+
+def renamed(ds):
+    """``ds`` with the names of earlier minor versions of the layout as they are now (:data:`RENAMED`)."""
+    old = {name: new for name, new in RENAMED.items() if name in ds.variables and new not in ds.variables}
+    return ds.rename(old) if old else ds
 
 
 def config_of(dataset):

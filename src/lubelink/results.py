@@ -241,7 +241,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         later["bending_stress"] = _beside(model.compiled and threads > 1, derived.stress_field, result, q, y_state, x)
     if fm.enabled:
         X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
-        coords["X"] = _entry("X", X)
+        coords["x_pad"] = _entry("x_pad", X)
         if fm.reynolds == "1d":
             tables = film.pressure_points(X, N, L, PRESSURE_NODES,
                                           fm.grid_points if fm.cavitation == "reynolds" else 0)

@@ -29,7 +29,7 @@ VARIABLES = {
     "mode": Variable(("mode",), "1", "mode number"),
     "direction": Variable(("direction",), "1", "displacement direction (spatial model): 1 axial u1, 2 in-plane u2, "
                                                "3 out-of-plane u3"),
-    "X": Variable(("X",), "m", "position along the pad from its start"),
+    "x_pad": Variable(("x_pad",), "m", "position X along the pad from its start"),
     "impact": Variable(("impact",), "1", "impact number"),
     "q": Variable(("time", "mode"), "m", "modal coordinate"),
     "q_dot": Variable(("time", "mode"), "m s-1", "modal velocity"),
@@ -45,9 +45,9 @@ VARIABLES = {
     "omega_spatial": Variable(("direction", "mode"), "rad s-1", "natural circular frequencies of the axial, "
                                                                "in-plane and out-of-plane modes (spatial model)"),
     "film_min": Variable(("time",), "m", "thinnest film on the pad (spatial model: of the u2 faces)"),
-    "pressure": Variable(("time", "X"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
+    "pressure": Variable(("time", "x_pad"), "Pa", "gauge film pressure P - p_am (film at H/2 - u2, the paper's; "
                          "on the centre line Z = 0 with film.reynolds '2d' or 'short')"),
-    "pressure_lower": Variable(("time", "X"), "Pa", "gauge film pressure of the film at H/2 + u2"),
+    "pressure_lower": Variable(("time", "x_pad"), "Pa", "gauge film pressure of the film at H/2 + u2"),
     "film_force": Variable(("time",), "N", "resultant film force on the link along +j"),
     "asperity_force": Variable(("time",), "N", "resultant asperity contact force on the link along +j "
                                                 "(Greenwood-Tripp, mixed lubrication)"),

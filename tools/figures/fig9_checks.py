@@ -110,7 +110,7 @@ def main(out="docs/figures"):
                                             "solver.output_step": 2e-5, "output.pad_points": 81,
                                             "output.x_points": 3})
     p_am = base.film.ambient_pressure
-    p_min = ds.pressure.min("X").values
+    p_min = ds.pressure.min("x_pad").values
     t = ds.time.values
     say("\n## Tension in the oil before the first impact (the paper's film, no cavitation)\n")
     below = np.flatnonzero(p_min < -p_am)

@@ -138,7 +138,7 @@ def plot_pressure_surface(ds, ax=None, levels=24, cmap="RdBu_r"):
     Parameters
     ----------
     ds : xarray.Dataset
-        Results with ``pressure`` [Pa] on ``(time, X)`` (a run with a film).
+        Results with ``pressure`` [Pa] on ``(time, x_pad)`` (a run with a film).
 
     Returns
     -------
@@ -146,7 +146,7 @@ def plot_pressure_surface(ds, ax=None, levels=24, cmap="RdBu_r"):
     """
     ax = _ax(ax)
     p = ds.pressure.values * KPA
-    cs = ax.contourf(ds.time.values, ds.X.values * MM, p.T, levels=_levels(p, levels), cmap=cmap)
+    cs = ax.contourf(ds.time.values, ds.x_pad.values * MM, p.T, levels=_levels(p, levels), cmap=cmap)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("position on the pad X [mm]")
     return cs

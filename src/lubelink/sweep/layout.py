@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from ..params import sample_times
-from ..results import VARIABLES
+from ..results import VARIABLE_ATTRS, VARIABLES
 from .schema import ALWAYS, QUANTITIES, SERIES, SWEEP_FORMAT, _parameters
 from .spec import Sweep
 
@@ -31,6 +31,12 @@ def _chunks(shape, target=4096):
 
 #: Units and long names of the time series: those of the results files.
 _SERIES_ATTRS = {name: (VARIABLES[name].units, VARIABLES[name].long_name) for name in SERIES}
+
+
+def _coordinate(name, values):
+    """``(dims, values, attrs)`` of a coordinate of the time series, as the results files write it."""
+    v = VARIABLES[name]
+    return (name,), values, {"units": v.units, "long_name": v.long_name, **VARIABLE_ATTRS.get(name, {})}
 
 
 def _template(sp: Sweep):
@@ -89,21 +95,18 @@ def _template(sp: Sweep):
 
         cfg = sp.base_config
         t = sample_times(cfg.solver)
-        coords["time"] = (("time",), t, {"units": "s", "long_name": "time"})
+        coords["time"] = _coordinate("time", t)
         extra = {
-            "mode": (np.arange(1, cfg.beam.modes + 1), "1", "mode number"),
-            "x": (np.linspace(0.0, cfg.mechanism.rod_length, cfg.output.x_points), "m",
-                  "position along the link from the crank pin O"),
-            "X": (np.linspace(0.0, cfg.film.pad_length, cfg.output.pad_points), "m",
-                  "position along the pad from its start"),
+            "mode": np.arange(1, cfg.beam.modes + 1),
+            "x": np.linspace(0.0, cfg.mechanism.rod_length, cfg.output.x_points),
+            "x_pad": np.linspace(0.0, cfg.film.pad_length, cfg.output.pad_points),
         }
         for name in sp.time_series:
             edim = SERIES[name][0]
             eshape = ()
             if edim:
-                values, units, long_name = extra[edim]
-                coords[edim] = ((edim,), values, {"units": units, "long_name": long_name})
-                eshape = (len(values),)
+                coords[edim] = _coordinate(edim, extra[edim])
+                eshape = (len(extra[edim]),)
             vshape = shape + (len(t),) + eshape
             vchunks = (1,) * len(shape) + (len(t),) + eshape
             units, long_name = _SERIES_ATTRS[name]

@@ -14,7 +14,7 @@ __all__ = ["SWEEP_FORMAT", "QUANTITIES", "DEFAULT_QUANTITIES", "ALWAYS", "SERIES
            "SweepError", "with_spatial_companions"]
 
 #: Version of the store layout; :func:`load_sweep` and resuming refuse other major versions.
-SWEEP_FORMAT = "1.0"
+SWEEP_FORMAT = "1.1"
 
 #: Summary quantities per point: name -> (units, long name, kind). ``kind`` is
 #: ``"f"`` (float, NaN when absent), ``"i"`` (integer, -1 when absent) or
@@ -61,7 +61,7 @@ SERIES = {
     "q": ("mode", ("beam.modes",)),
     "q_dot": ("mode", ("beam.modes",)),
     "u2": ("x", ("mechanism.rod_length", "output.x_points")),
-    "pressure": ("X", ("film.pad_length", "output.pad_points")),
+    "pressure": ("x_pad", ("film.pad_length", "output.pad_points")),
     "u3_mid": (None, ()),
     "u3": ("x", ("mechanism.rod_length", "output.x_points")),
     "u1": ("x", ("mechanism.rod_length", "output.x_points")),

@@ -253,7 +253,7 @@ class Sweep:
         if self.time_series:
             cfg = self.base_config
             n_time = len(sample_times(cfg.solver))
-            extent = {"mode": cfg.beam.modes, "x": cfg.output.x_points, "X": cfg.output.pad_points, None: 1}
+            extent = {"mode": cfg.beam.modes, "x": cfg.output.x_points, "x_pad": cfg.output.pad_points, None: 1}
             series = sum(8 * n_time * extent[SERIES[name][0]] for name in self.time_series)
             per_point_bytes += series
             store_per_point += series

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .._files import atomic_path, read_netcdf
+from ..netcdf import renamed
 from .layout import _template
 from .schema import ALWAYS, QUANTITIES, SWEEP_FORMAT, SweepError
 from .spec import Sweep
@@ -339,6 +340,7 @@ def _normalise(ds):
                 ds = ds.assign_coords({name: ds[name].astype(object)})
             else:
                 ds[name] = ds[name].astype(object)
+    ds = renamed(ds)  # a store of format 1.0: the pad's coordinate was X
     first = ["done", "status", "message"] + ds.attrs.get("quantities", "").split() + ["wall_time"]
     order = [v for v in first if v in ds.data_vars] + [v for v in ds.data_vars if v not in first]
     return ds[order]
