@@ -17,9 +17,12 @@ from pathlib import Path
 import numpy as np
 
 from ._files import atomic_path, read_netcdf, target_problem
+from .variables import CONVENTIONS
 
 __all__ = ["FORMAT_VERSION", "ResultsFileError", "write", "save", "load", "config_of", "output_problem",
-           "NETCDF_SUFFIXES", "EXISTS", "COMPRESSION", "file_attrs", "library_versions", "RENAMED", "renamed"]
+           "NETCDF_SUFFIXES", "EXISTS", "COMPRESSION", "file_attrs", "library_versions", "RENAMED", "renamed",
+           "CONVENTIONS"]
+
 
 #: Version of the results layout; :func:`load` refuses other major versions.
 FORMAT_VERSION = "1.1"

@@ -103,8 +103,9 @@ VARIABLES = {
                                                     "dissipation"),
 }
 
-#: Attributes beyond units and long name, by variable: the CF flag attributes of the flag variables.
+#: Attributes beyond units and long name: CF's flags of the flag variables, the axis of x and x_pad (of time none).
 VARIABLE_ATTRS = {
+    "x": {"axis": "X"}, "x_pad": {"axis": "X"},
     "impact_side": {"flag_values": np.array([1, -1], dtype=np.int64),
                     "flag_meanings": "positive_j_side negative_j_side"},
     "impact_face": {"flag_values": np.array([2, 3], dtype=np.int64), "flag_meanings": "u2_faces u3_faces"},

@@ -141,6 +141,7 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
     Returns
     -------
     branch : Branch
+        Its ``wall_time`` [s] is this whole call's, the first orbit's shooting included.
     summaries : list of dict
         Per point: ``peak_u2_mid``, ``peak_q``, ``min_film``, ``impact_count``, ``period``,
         ``omega_n``; for the spatial model also ``peak_u1_mid``, ``peak_u3_mid``, ``omega_n1``,
@@ -149,6 +150,7 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
     """
     from .orbit import find_periodic
 
+    began = time.perf_counter()
     family = Family(config, parameter, motion=motion, period=period, periods=periods, jacobian=jacobian,
                     samples=samples)
     lam0 = family.value0 if start is None else float(start)
@@ -177,6 +179,7 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
     branch = continue_branch(family, y, lam0, float(stop), scale_of, ds=ds, ds_max=ds_max,
                              max_parameter_step=max_parameter_step or abs(float(stop) - lam0) / 100.0,
                              max_points=max_points, tol=tol, max_angle=max_angle, on_point=on_point)
+    branch.wall_time = time.perf_counter() - began
     return branch, summaries, family
 
 
@@ -188,7 +191,7 @@ def _entry(name, data, **attrs):
 def branch_results(branch, summaries, family):
     """The branch as :class:`~lubelink.results.Results` (``point``, ``mode``, ``multiplier``, ``bifurcation``)."""
     from ..config import to_toml
-    from ..results import Results, versions
+    from ..results import CONVENTIONS, Results, versions
 
     pts = branch.points
     n = pts[0].y.size
@@ -243,7 +246,11 @@ def branch_results(branch, summaries, family):
         methods[p.jacobian_method] = methods.get(p.jacobian_method, 0) + 1
     version, libs = versions()
     attrs = {
+        "Conventions": CONVENTIONS,
         "title": "lubelink response curve: periodic responses of a flexible link with a lubricated prismatic joint",
+        "source": f"lubelink {version}",
+        "references": "pseudo-arclength continuation of the periodic response with its Floquet multipliers: "
+                      "docs/periodic.md",
         "lubelink_version": version,
         "versions": libs,
         "config": to_toml(family.config),
@@ -255,6 +262,7 @@ def branch_results(branch, summaries, family):
         "bifurcations": "; ".join(f"{b.kind} at {family.parameter} = {b.parameter:.6g}" for b in bif) or "none",
         "map_evaluations": branch.evaluations,
         "wall_time": branch.wall_time,
+        "wall_time_units": "s",
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     return Results(data, coords, attrs)

@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from ..params import sample_times
-from ..results import VARIABLE_ATTRS, VARIABLES
+from ..results import CONVENTIONS, VARIABLE_ATTRS, VARIABLES
 from .schema import ALWAYS, QUANTITIES, SERIES, SWEEP_FORMAT, _parameters
 from .spec import Sweep
 
@@ -54,7 +54,8 @@ def _template(sp: Sweep):
 
     def param_attrs(name, scale):
         _, units, long_name = params[name]
-        return {"units": units, "long_name": long_name, "parameter": name, "scale": scale}
+        units = {"units": units} if units else {}  # a choice (a string) has none
+        return {**units, "long_name": long_name, "parameter": name, "scale": scale}
 
     def array(values):
         values = list(values)
@@ -87,7 +88,7 @@ def _template(sp: Sweep):
         data[name] = (vdims, values, {"units": units, "long_name": long_name})
         encoding[name] = {"chunks": vchunks}
     data["done"] = (dims, np.zeros(shape, dtype=bool),
-                    {"long_name": "point stored: computed, or recorded as failed or invalid"})
+                    {"units": "1", "long_name": "point stored: computed, or recorded as failed or invalid"})
     encoding["done"] = {"chunks": chunks}
 
     if sp.time_series:
@@ -117,7 +118,9 @@ def _template(sp: Sweep):
     from .. import __version__
 
     attrs = {
+        "Conventions": CONVENTIONS,
         "title": "lubelink parameter sweep",
+        "source": f"lubelink {__version__}",
         "lubelink_sweep_format": SWEEP_FORMAT,
         "lubelink_version": __version__,
         "sweep_hash": sp.hash,
