@@ -76,6 +76,33 @@ def _hold_sigint():
 
 
 @contextlib.contextmanager
+def _main_not_rerun():
+    """While it lasts, the processes multiprocessing starts do not run the ``__main__`` script again.
+
+    The local cluster's workers are started by multiprocessing's spawn method (Dask's default),
+    which runs the parent's ``__main__`` script in each child (as ``__mp_main__``) so that what
+    it defines can be unpickled there: a script calling :func:`run_sweep` at its top level,
+    without ``if __name__ == "__main__":``, would run again in every worker (and its sweep find
+    the store in use). A worker needs nothing of the script (its tasks are lubelink's functions
+    of configurations), so ``__main__`` is shown to multiprocessing as the module ``__main__``,
+    which a child leaves alone (``multiprocessing.spawn._fixup_main_from_name``): for a script,
+    or a module run with ``python -m``, as for the ``lubelink`` command itself.
+    """
+    import importlib.machinery
+
+    main = sys.modules.get("__main__")
+    if main is None or (getattr(main, "__file__", None) is None and getattr(main, "__spec__", None) is None):
+        yield  # an interactive session: nothing to run again
+        return
+    spec = main.__spec__
+    main.__spec__ = importlib.machinery.ModuleSpec("__main__", None)
+    try:
+        yield
+    finally:
+        main.__spec__ = spec
+
+
+@contextlib.contextmanager
 def _dask_client(client, scheduler, workers):
     """``(client, description)``: the user's client, one connected to ``scheduler``, or a LocalCluster."""
     if client is not None:
@@ -96,21 +123,22 @@ def _dask_client(client, scheduler, workers):
     import dask
 
     n = workers or _cpu_count()
-    held = _hold_sigint()
-    try:
-        with dask.config.set(LOCAL_CLUSTER_CONFIG):
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   silence_logs=logging.ERROR, dashboard_address=":0")
-            c = Client(cluster)
-    except BaseException:
-        held()
-        raise
-    try:
-        held()  # a Ctrl-C pressed while the cluster started is raised here
-        yield c, f"LocalCluster, {n} worker process(es)"
-    finally:
-        c.close()
-        cluster.close()
+    with _main_not_rerun():  # (the nanny starts a worker again after one died: for the cluster's life)
+        held = _hold_sigint()
+        try:
+            with dask.config.set(LOCAL_CLUSTER_CONFIG):
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                       silence_logs=logging.ERROR, dashboard_address=":0")
+                c = Client(cluster)
+        except BaseException:
+            held()
+            raise
+        try:
+            held()  # a Ctrl-C pressed while the cluster started is raised here
+            yield c, f"LocalCluster, {n} worker process(es)"
+        finally:
+            c.close()
+            cluster.close()
 
 
 def run_sweep(sweep, store=None, *, client=None, scheduler=None, workers=None, retry_failed=False,
