@@ -685,9 +685,9 @@ def test_plot_sweep_draws_maps_curves_and_status(reference, tmp_path, capsys):
     folder, _, _ = reference
     store = str(folder / "ref.zarr")
     for k, args in enumerate((["--quantity", "peak_u2_mid"],
-                 ["--quantity", "status", "--select", "film.clearance=0.003"],
-                 ["--quantity", "regime", "--select", "film.clearance=0.003"],
-                 ["--quantity", "peak_pressure", "--select", "film.viscosity=0.1", "--select", "film.clearance=1e-3"])):
+                 ["--quantity", "status", "--select", "film.clearance=3"],  # mm, the axis's unit
+                 ["--quantity", "regime", "--select", "film.clearance=0.003 m"],
+                 ["--quantity", "peak_pressure", "--select", "film.viscosity=100", "--select", "film.clearance=1"])):
         png = tmp_path / f"{k}.png"
         assert cli_main(["plot-sweep", store, *args, "-o", str(png)]) == 0
         assert png.stat().st_size > 5000

@@ -59,6 +59,14 @@ def store(tmp_path_factory):
     return _make_store(tmp_path_factory.mktemp("plot") / "s.zarr")
 
 
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
 def _mesh(fig):
     from matplotlib.collections import QuadMesh
 
@@ -83,7 +91,7 @@ def test_a_stored_time_series_can_be_drawn(store):
 
 def test_the_command_draws_a_series_it_used_to_call_not_stored(store, tmp_path, capsys):
     out = tmp_path / "u.png"
-    assert main(["plot-sweep", str(store), "--quantity", "u2_mid", "--select", "film.viscosity=0.1",
+    assert main(["plot-sweep", str(store), "--quantity", "u2_mid", "--select", "film.viscosity=100",
                  "-o", str(out)]) == 0
     assert out.stat().st_size > 5000
     assert main(["plot-sweep", str(store), "--quantity", "u2"]) == 2
@@ -107,6 +115,62 @@ def test_values_are_drawn_in_display_units_with_plain_ticks(store):
     fig = plot_sweep(load_sweep(store), "peak_pressure", select={"film.viscosity": 0.1})
     assert fig.axes[0].get_ylabel() == "peak_pressure [kPa]  (film.viscosity = 100 mPa s)"
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), [1.5, 3.0, 4.5, 6.0])
+
+
+def test_select_takes_values_in_the_units_of_the_axis(store):
+    """``--select`` (strings) reads a value in the unit the axis is drawn in (mPa s, mm), or with a
+    unit of its own; the curve drawn is the row of made-up values of that grid point."""
+    ds = load_sweep(store)
+    row = {0: [np.nan, 2.1, 2.2, 2.3], 1: [2.6, 2.65, 2.7, 2.75]}  # PEAK in mm, masked where not complete
+    for text, i in (("100", 1), ("1", 0), ("0.1 Pa s", 1), ("1 mPa s", 0), ("1e2", 1), (" 100.0 ", 1)):
+        fig = plot_sweep(ds, "peak_u2_mid", select={"film.viscosity": text})
+        np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), row[i], err_msg=text)
+        assert fig.axes[0].get_ylabel().endswith(f"(film.viscosity = {[1, 100][i]} mPa s)"), text
+    fig = plot_sweep(ds, "peak_u2_mid", select={"film.clearance": "3"})  # mm: a curve over the viscosity
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), [2.1, 2.65])
+    fig = plot_sweep(ds, "peak_u2_mid", select={"film.clearance": "3.0004"})  # as the axis shows it (4 digits)
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), [2.1, 2.65])
+    fig = plot_sweep(ds, "peak_u2_mid", select={"film.viscosity": 0.1})  # a number (Python): SI, as stored
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), row[1])
+    with pytest.raises(Exception, match=r"select film.viscosity=None: must be a number \(in Pa s\)"):
+        plot_sweep(ds, "peak_u2_mid", select={"film.viscosity": None})
+
+
+@pytest.mark.parametrize("select, needle", [
+    ("film.viscosity=50", "select film.viscosity='50': 50 mPa s is not a value of the sweep; its values are "
+                          "1, 100 mPa s"),
+    ("film.viscosity=0.1", "select film.viscosity='0.1': 0.1 mPa s is not a value of the sweep; its values are "
+                           "1, 100 mPa s (0.1 is a value in Pa s: write 100, or '0.1 Pa s')"),
+    ("film.viscosity=0.2 Pa s", "0.2 Pa s is not a value of the sweep; its values are 1, 100 mPa s"),
+    ("film.viscosity=100 cP", "unknown unit 'cP'; write the number in mPa s, or follow it with one of mPa s, Pa s"),
+    ("film.viscosity=fast", "select film.viscosity='fast': must be a number in mPa s"),
+    ("film.clearance=3.5", "3.5 mm is not a value of the sweep; its values are 2, 3, 4, 5 mm"),
+])
+def test_an_off_grid_select_is_refused_naming_the_grid_in_the_axis_units(store, tmp_path, capsys, select, needle):
+    out = tmp_path / "p.png"
+    assert main(["plot-sweep", str(store), "--select", select, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and len(err.strip().splitlines()) == 1, err
+    assert not out.exists()
+    with pytest.raises(Exception, match="0.05 Pa s is not a value of the sweep; its values are 1, 100 mPa s"):
+        plot_sweep(load_sweep(store), "peak_u2_mid", select={"film.viscosity": 0.05})
+
+
+def test_the_time_of_a_series_is_selected_in_the_units_of_its_axis(store):
+    ds = load_sweep(store)
+    fig = plot_sweep(ds, "u2_mid", select={"time": "20"})  # ms: a map over the swept parameters at t = 20 ms
+    z = _mesh(fig).get_array().reshape(len(CLEARANCES), len(VISCOSITIES))
+    expect = PEAK.T * np.sin(np.pi * 0.02 / T_END) ** 2 * 1e3
+    np.testing.assert_allclose(np.ma.filled(z, np.nan)[1:], expect[1:])  # (the failed point is masked)
+    with pytest.raises(Exception, match=r"15 ms is not a value of the sweep; its values are 0, 10, 20, 30, 40, 50 ms$"):
+        plot_sweep(ds, "u2_mid", select={"film.viscosity": "100", "time": "15"})
+
+
+def test_a_long_grid_is_listed_by_its_ends():
+    from lubelink.sweep.plot import _grid_text
+
+    assert _grid_text(np.arange(2001.0), "ms") == "0, 1, 2, 3, ..., 1999, 2000 ms (2001 values)"
+    assert _grid_text(np.array([0.5, 1.0]), "") == "0.5, 1"
 
 
 def test_points_that_did_not_complete_are_masked_and_marked(store):

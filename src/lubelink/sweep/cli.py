@@ -63,7 +63,9 @@ def register_cli(subparsers, add_config_args):
     p.add_argument("results", metavar="RESULTS", help="a sweep store (DIR.zarr or FILE.nc)")
     p.add_argument("--quantity", metavar="NAME", help="quantity to draw (default peak_u2_mid); 'status' maps outcomes")
     p.add_argument("--select", action="append", default=[], metavar="DIM=VALUE",
-                   help="fix a swept dimension at (the value nearest to) VALUE; repeatable")
+                   help="fix a dimension at VALUE, a value of the sweep in the unit of its axis (e.g. "
+                        "film.viscosity=100 on an axis in mPa s) or with a unit ('film.viscosity=0.1 Pa s'); "
+                        "repeatable")
     p.add_argument("-o", "--output", metavar="FILE.png",
                    help="image file (default: <results name>-<quantity>.png here)")
     p.add_argument("--overwrite", action="store_true", help="replace the image file if it exists")
@@ -225,7 +227,7 @@ def _cmd_plot_sweep(args):
     select = {}
     for text in args.select:
         if "=" not in text:
-            raise UsageError(f"--select {text!r}: must look like DIM=VALUE, e.g. film.viscosity=0.1")
+            raise UsageError(f"--select {text!r}: must look like DIM=VALUE, e.g. film.viscosity=100 (mPa s)")
         dim, value = (part.strip() for part in text.split("=", 1))
         select[dim] = value
     if args.output:

@@ -6,6 +6,7 @@ Matplotlib is imported inside :func:`plot_sweep` only.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
@@ -67,15 +68,79 @@ def _axis_values(ds, dim, lists_as_categories):
     return v / size, None, scale == "log" or wide, name
 
 
-def _shown(c):
-    """The value of a scalar coordinate ``c`` in its display unit, e.g. ``100 mPa s``."""
+def _shown(c, grid=None):
+    """The value of a scalar coordinate ``c`` in its display unit, e.g. ``100 mPa s``: the unit of
+    the axis of ``grid`` (the whole coordinate) when given."""
     from ..plots.units import display_unit
 
     value = c.values.item() if hasattr(c.values, "item") else c.values
     if c.dtype.kind not in "fiu":
         return _fmt(value)
-    unit, size = display_unit(c.attrs.get("units", ""), value)
+    unit, size = display_unit(c.attrs.get("units", ""), value if grid is None else grid.values)
     return f"{value / size:.4g}" + (f" {unit}" if unit else "")
+
+
+_NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*")
+
+
+def _grid_text(values, unit):
+    """The values of a grid as a message lists them (the first and last few of a long one)."""
+    shown = [f"{v:.4g}" for v in values]
+    more = ""
+    if len(shown) > 10:
+        shown, more = shown[:4] + ["..."] + shown[-2:], f" ({len(values)} values)"
+    return ", ".join(shown) + (f" {unit}" if unit else "") + more
+
+
+def _pick(ds, dim, value):
+    """The value of the numeric coordinate ``dim`` that ``value`` names, as stored (SI).
+
+    A string (what ``--select`` gives) is a number in the display unit of the dimension's axis
+    (:func:`lubelink.plots.units.display_unit`: ``100`` for 100 mPa s on an axis in mPa s),
+    optionally followed by a unit of the same quantity (``"0.1 Pa s"``); it names a grid value
+    when it rounds to it at the 4 significant digits the axis labels show. A number (Python) is
+    in the stored unit and must equal a grid value to 1e-9. Any other value is refused with the
+    grid in the axis's unit: a sweep has results at its grid values only.
+    """
+    from ..plots.units import DISPLAY, display_unit
+
+    c = ds[dim]
+    si = str(c.attrs.get("units", "")).strip()
+    unit, size = display_unit(si, c.values)
+    grid = c.values.astype(float)
+    shown = grid / size
+    if isinstance(value, str):
+        m = _NUMBER.fullmatch(value)
+        if m is None:
+            raise SweepError(f"select {dim}={value!r}: must be a number" + (f" in {unit}" if unit else ""))
+        number, written = float(m.group(1)), m.group(2)
+        units = {label: s for label, s in DISPLAY.get(si, ())}
+        units.setdefault(si, 1.0)
+        if written and written not in units:
+            raise SweepError(f"select {dim}={value!r}: unknown unit {written!r}; write the number in {unit or si}"
+                             + (", or follow it with one of " + ", ".join(units) if len(units) > 1 else ""))
+        target = number * (units[written] if written else size) / size  # in the axis's unit
+        magnitude = np.where(shown != 0.0, np.abs(shown), 1.0)
+        half_digit = np.where(shown != 0.0, 0.5 * 10.0 ** (np.floor(np.log10(magnitude)) - 3), 0.0)  # of the 4th
+        tol = np.maximum(half_digit, 1e-9 * np.max(np.abs(shown)))
+    else:
+        try:
+            number, written = float(value), None
+        except (TypeError, ValueError):
+            raise SweepError(f"select {dim}={value!r}: must be a number (in {si or 'its unit'})") from None
+        target = number / size
+        tol = np.full(grid.shape, 1e-9 * max(np.max(np.abs(shown)), abs(target)))
+    near = np.abs(shown - target)
+    hits = np.flatnonzero(near <= tol)
+    if hits.size:
+        return grid[hits[np.argmin(near[hits])]].item()
+    hint = ""
+    in_si = np.any(np.abs(grid - number) <= 1e-9 * np.max(np.abs(grid)))
+    if isinstance(value, str) and not written and size != 1.0 and in_si:  # the number as stored: say so
+        hint = f" ({number:g} is a value in {si}: write {number / size:.4g}, or '{number:g} {si}')"
+    what = f"{number:.6g} {written or unit}".strip() if isinstance(value, str) else f"{number:.6g} {si}".strip()
+    raise SweepError(f"select {dim}={value!r}: {what} is not a value of the sweep; its values are "
+                     f"{_grid_text(shown, unit)}{hint}")
 
 
 #: Quantities that describe the run itself, meaningful for failed points too: they are drawn for
@@ -114,8 +179,10 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
         Stored quantity or time series (default ``peak_u2_mid`` when stored); ``status``
         draws a map of the outcomes.
     select : dict, optional
-        ``{dimension: value}`` slices (nearest value for numbers); ``impact``
-        selects which of ``impact_times``.
+        ``{dimension: value}`` slices at values of the sweep's grid: a number in the stored (SI)
+        unit, or a string as ``--select`` gives it, a number in the unit of the dimension's axis
+        (``"100"`` for 100 mPa s) optionally with a unit (``"0.1 Pa s"``). A value off the grid
+        is refused, naming the grid's values. ``impact`` selects which of ``impact_times``.
 
     Returns
     -------
@@ -135,25 +202,30 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
         raise SweepError(f"quantity {quantity!r}: not stored in these results; choose from "
                          + ", ".join(stored) + suggest(quantity, stored))
     select = dict(select or {})
+    exact = {}
     for dim, value in list(select.items()):
         if dim not in ds.dims:
             raise SweepError(f"select {dim}: no such dimension; the dimensions are "
                              + ", ".join(ds[quantity].dims) + suggest(dim, ds.dims))
-        if dim in ds.coords and ds[dim].dtype.kind in "fiu":
+        if dim == "impact":  # which impact of impact_times: its number
             try:
-                select[dim] = float(value)
+                exact[dim] = int(value)
             except (TypeError, ValueError):
-                raise SweepError(f"select {dim}={value!r}: must be a number") from None
-    numeric = {d: v for d, v in select.items() if d in ds.coords and ds[d].dtype.kind in "fiu"}
-    exact = {d: v for d, v in select.items() if d not in numeric}
+                raise SweepError(f"select impact={value!r}: must be an impact number (0 the first)") from None
+        elif dim in ds.coords and ds[dim].dtype.kind in "fiu":
+            exact[dim] = _pick(ds, dim, value)
+        elif dim in ds.coords and value not in set(ds[dim].values.tolist()):
+            raise SweepError(f"select {dim}={value!r}: not a value of the sweep; its values are "
+                             + ", ".join(_fmt(v) for v in ds[dim].values.tolist()))
+        else:
+            exact[dim] = value
     if "impact" in ds[quantity].dims and "impact" not in select:
         exact["impact"] = 0
     try:
-        sub = ds.sel(numeric, method="nearest") if numeric else ds
-        sub = sub.sel({d: v for d, v in exact.items() if d in ds.coords and d != "impact"})
+        sub = ds.sel({d: v for d, v in exact.items() if d in ds.coords and d != "impact"})
         if "impact" in exact:
-            sub = sub.isel(impact=int(exact["impact"]))
-    except KeyError as exc:
+            sub = sub.isel(impact=exact["impact"])
+    except (KeyError, IndexError) as exc:
         raise SweepError(f"select: no such value {exc}") from None
     is_series = quantity in series
     if is_series:
@@ -161,6 +233,7 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
         if extra:
             raise SweepError(f"{quantity} has the dimension {extra[0]} besides time: pick one value with "
                              f"--select {extra[0]}=VALUE")
+        is_series = "time" in sub[quantity].dims  # (a series at one selected time is drawn as a summary)
     free = (["time"] if is_series else []) + [d for d in dims if d in sub[quantity].dims]
     n_swept = len(free) - is_series
     if len(free) > 3 or not free or (not is_series and n_swept == 0):
@@ -190,7 +263,8 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
     failed = failed_da.broadcast_like(values).transpose(*free).values
     title = label(quantity, unit)
     if select:
-        title += "  (" + ", ".join(f"{d} = {_shown(sub[d]) if d in sub.coords else v}" for d, v in select.items()) + ")"
+        title += "  (" + ", ".join(f"{d} = {_shown(sub[d], ds[d]) if d in sub.coords else v}"
+                                   for d, v in select.items()) + ")"
     long_name = ds[quantity].attrs.get("long_name", quantity)
 
     panels = [None] if len(free) < 3 else list(range(sub.sizes[free[2]]))
@@ -265,7 +339,7 @@ def plot_sweep(results, quantity=None, *, select=None, fig=None):
         ax.set_xlabel(xname)
         ax.set_ylabel(yname if k % ncols == 0 else "")  # (facets share their axes)
         if panel is not None:
-            ax.set_title(f"{free[2]} = {_shown(sub[free[2]][panel])}", fontsize=9)
+            ax.set_title(f"{free[2]} = {_shown(sub[free[2]][panel], sub[free[2]])}", fontsize=9)
         else:
             ax.set_title(long_name, fontsize=10)
     for ax in axes.flat[len(panels):]:
