@@ -19,6 +19,7 @@ import numpy as np
 import lubelink
 from lubelink.link.kinematics import slider_crank
 from lubelink.netcdf import save
+from lubelink.plots.units import log_scale
 
 ZETA = 0.01
 SPEEDS = (5.0, 60.0)
@@ -85,7 +86,8 @@ def main(out="docs/figures", keep=False):
         ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
         plot_branch(dry, ax1, label=f"periodic response (continuation), zeta = {ZETA}")
         ax1.plot(speeds, np.array(peaks) * MM, "x", color="k", ms=7, mew=1.5, label="last turn of a transient")
-        ax1.set_yscale("log")
+        if log_scale(np.append(dry.peak_u2_mid.values, peaks)):
+            ax1.set_yscale("log")
         ax1.set_xlabel("")
         ax1.legend(loc="lower right", fontsize=8)
         ratio = dry.peak_u2_mid.values / np.array([quasi_static_peak(config, w) for w in dry.parameter.values])

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._style import KPA, MM, UM, _ax, _figure, _legend, _levels, _style
+from .units import log_scale
 
 __all__ = [
     "plot_deflection_surface",
@@ -193,7 +194,8 @@ def plot_film_min(ds, ax=None, min_film=None):
         ax.axvline(ti, color="C3", lw=0.5, alpha=0.6)
     if min_film is not None:
         ax.axhline(min_film * MM, color="C3", ls=":", lw=0.9, label=f"breakdown, {min_film * UM:g} µm")
-    ax.set_yscale("log")
+    if log_scale(np.append(ds.film_min.values, [] if min_film is None else [min_film])):  # decades: a log axis
+        ax.set_yscale("log")
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("thinnest film [mm]")
     ax.legend(loc="lower right", fontsize=8)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._style import MM, _figure, _legend, _style
+from .units import log_scale
 from .response import plot_midpoint, plot_midpoint_difference
 
 __all__ = [
@@ -115,7 +116,8 @@ def figure_lubrication_effect(effect, title=None):
         ax1.axhline(0.0, color="k", lw=0.8)
         ax1.set_ylabel("peak |u2(L/2)|: change from dry [%]")
         _legend(ax1, 4)
-        ax2.set_xscale("log")
+        if log_scale(effect.viscosity.values):
+            ax2.set_xscale("log")
         ax2.set_xlabel("viscosity mu [Pa s]")
         ax2.set_ylabel("thinnest film [mm]")
         fig.suptitle(title or f"Does the film reduce the deflection? Peak |u2(L/2)|{span}, film against dry joint")

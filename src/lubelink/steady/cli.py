@@ -66,7 +66,11 @@ def register_cli(subparsers, add_config_args):
                     "'lubelink continue', stable solid, unstable dashed, resonances omega_1/k marked.")
     p.add_argument("branches", nargs="+", metavar="FILE.nc", help="branch files")
     p.add_argument("-o", "--output", required=True, metavar="FILE.png", help="image file")
-    p.add_argument("--linear", action="store_true", help="linear deflection axis (default logarithmic)")
+    scale = p.add_mutually_exclusive_group()
+    scale.add_argument("--linear", action="store_true",
+                       help="linear deflection axis (default: logarithmic where the peaks span a decade or more, "
+                            "else linear)")
+    scale.add_argument("--log", action="store_true", help="logarithmic deflection axis")
     p.add_argument("--title", help="figure title")
     p.add_argument("--overwrite", action="store_true", help="replace FILE.png if it exists")
     p.set_defaults(handler=_cmd_plot_branch)
@@ -260,7 +264,7 @@ def _cmd_continue(args):
     return 0 if branch.status == "complete" else 1
 
 
-def _save_figure(branches, path, title=None, log=True):
+def _save_figure(branches, path, title=None, log=None):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -286,6 +290,6 @@ def _cmd_plot_branch(args):
             raise UsageError(f"{name}: not a branch file of 'lubelink continue'")
         branches[p.stem] = ds
     _save_figure(branches if len(branches) > 1 else next(iter(branches.values())), out, title=args.title,
-                 log=not args.linear)
+                 log=True if args.log else False if args.linear else None)
     print(f"wrote {out}")
     return 0

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..plots._style import MM, _figure, _legend, _style
+from ..plots.units import log_scale
 
 __all__ = ["plot_branch", "figure_branch", "resonances"]
 
@@ -101,7 +102,7 @@ def plot_branch(ds, ax=None, quantity="peak_u2_mid", label=None, color=None, mar
     return ax
 
 
-def figure_branch(branches, title=None, transients=None, log=True, modes=(1,), quantity="peak_u2_mid"):
+def figure_branch(branches, title=None, transients=None, log=None, modes=(1,), quantity="peak_u2_mid"):
     """A response-curve figure of one or more branches.
 
     Parameters
@@ -111,8 +112,9 @@ def figure_branch(branches, title=None, transients=None, log=True, modes=(1,), q
     title : str, optional
     transients : dict of str -> (array, array), optional
         Label -> (parameter values, peak ``|u2_mid|`` [m]) of long transients, drawn as crosses.
-    log : bool
-        Logarithmic deflection axis.
+    log : bool, optional
+        Logarithmic deflection axis; by default one where the values drawn span a decade or
+        more, a linear one otherwise (:func:`lubelink.plots.units.log_scale`).
     modes : tuple of int
         Modes whose resonances ``omega_n / k`` are marked (crank-speed branches).
     """
@@ -127,6 +129,9 @@ def figure_branch(branches, title=None, transients=None, log=True, modes=(1,), q
             ax.plot(x, np.asarray(y) * MM, "x", color="k", ms=6, mew=1.4, label=label)
         first = next(iter(branches.values()))
         _mark_resonances(ax, resonances(first, modes))
+        if log is None:
+            drawn = [ds[quantity].values for ds in branches.values()] + [y for _, y in (transients or {}).values()]
+            log = log_scale(np.concatenate([np.ravel(v) for v in drawn]))
         if log:
             ax.set_yscale("log")
         # the line styles and markers explained once

@@ -34,10 +34,11 @@ def _axis_values(ds, dim, lists_as_categories):
     in its display unit (:func:`lubelink.plots.units.display_unit`).
 
     Strings, and in heat maps lists of swept values, are placed at equal spacing and
-    labelled; ranges (and the time axis of a series) keep their linear or log scale; a numeric
-    list spanning two decades or more is drawn on a log axis.
+    labelled; linear ranges (and the time axis of a series) are drawn on a linear axis; log
+    ranges and numeric lists on a log axis where they span a decade or more, else on a linear
+    one (:func:`lubelink.plots.units.log_scale`).
     """
-    from ..plots.units import display_unit, label
+    from ..plots.units import display_unit, label, log_scale
 
     c = ds[dim]
     if dim == "point":  # explicit points: label each with its parameter values
@@ -64,8 +65,7 @@ def _axis_values(ds, dim, lists_as_categories):
         ticks = [f"{v.item() / size:.4g}" if numeric else _fmt(v.item()) for v in c.values]
         return np.arange(c.size, dtype=float), ticks, False, name
     v = c.values.astype(float)
-    wide = scale == "list" and v.size > 1 and v.min() > 0 and v.max() / v.min() >= 100
-    return v / size, None, scale == "log" or wide, name
+    return v / size, None, scale in ("list", "log") and log_scale(v), name
 
 
 def _shown(c, grid=None):
