@@ -1,5 +1,6 @@
 """The progress line of ``lubelink run`` (issue 16 item 6): on a terminal only, the time left from
-the simulated-time rate once a few reports are in, every phase covered, including the write."""
+the simulated-time rate once a few reports are in, every phase covered, including the write. The
+bars of ``figures``, ``sweep`` and ``animate`` (issue 35): tqdm's on a terminal, plain lines in a log."""
 
 import io
 import os
@@ -169,3 +170,86 @@ def test_a_real_terminal_sees_the_phases(tmp_path):
     assert frames and all(f.startswith(("starting (compiling on a first run)", "simulating", "sampling",
                                         "writing")) for f in frames), frames
     assert shown.endswith("\r")
+
+
+# ----------------------------------------------------------------------------- the other commands' bars
+def test_a_bar_writes_plain_lines_to_a_stream_that_is_not_a_terminal(fake_clock):
+    """Not a terminal: one line per item and stage, the details only in the closing line, no ``\\r``."""
+    from lubelink.progress import Bar
+
+    log = io.StringIO()
+    bar = Bar(2, "figures", "fig", stream=log, leave=False)
+    assert bar.plain and bar.tqdm is None
+    bar.describe("fig6")
+    bar.stage("simulating paper")
+    bar.note("calibrating: H = 4.45 mm")  # often: not a line of its own
+    bar.update(1)
+    bar.describe("fig9")
+    bar.note("calibrating: H = 4.46 mm")
+    fake_clock.now += 75.0
+    bar.update(1)
+    bar.close()
+    bar.close()  # (once)
+    assert log.getvalue() == ("figures: fig6 (1/2)\n"
+                              "figures: fig6: simulating paper\n"
+                              "figures: fig9 (2/2)\n"
+                              "figures: 2/2 fig in 1:15, calibrating: H = 4.46 mm\n")
+    quiet = io.StringIO()
+    with Bar(3, "sweep", "pt", stream=quiet, enabled=False) as off:
+        off.stage("3 points")
+        off.update(3)
+    assert quiet.getvalue() == ""
+
+
+def test_a_bar_on_a_terminal_is_tqdms(fake_clock):
+    from lubelink.progress import Bar
+
+    term = Terminal()
+    with Bar(4, "sweep", "pt", stream=term) as bar:
+        assert not bar.plain and bar.tqdm is not None
+        bar.stage("4 point(s) to compute")
+        bar.update(2)
+        bar.note("failed 0, remaining 2")
+    assert "\r" in term.getvalue() and "sweep" in term.getvalue()
+
+
+def test_animate_to_a_log_writes_lines_not_frames(tmp_path):
+    """``lubelink animate`` with stderr to a pipe: the simulation's and the drawing's start and end,
+    one line each, and no redrawn frame."""
+    r = subprocess.run([sys.executable, "-m", "lubelink", "animate", "--scenario", "paper-dry", "--duration", "0.02",
+                        "-o", "a.gif"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "\r" not in r.stderr
+    lines = r.stderr.splitlines()
+    assert lines[0] == "simulating: 0.02 s of motion" and lines[1].startswith("simulating: 0.02/0.02 s in 0:")
+    assert lines[2] == "animating: drawing 5 frames into a.gif" and lines[3].startswith("animating: 5/5 frame in 0:")
+    assert len(lines) == 4 and r.stdout.strip() == "wrote a.gif"
+
+
+def test_figures_to_a_log_write_a_line_per_figure_and_simulation(tmp_path, capsys):
+    from lubelink.paper import make_figures
+
+    make_figures(tmp_path, low_res=True, only=["fig8"], progress=True, formats=("png",))
+    err = capsys.readouterr().err
+    assert "\r" not in err
+    lines = err.splitlines()
+    assert lines[:2] == ["figures: fig8 (1/1)", "figures: fig8: simulating paper"], lines
+    assert lines[-1].startswith("figures: 1/1 fig in 0:") and len(lines) == 3
+
+
+def test_a_sweep_to_a_log_writes_its_start_and_end(tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("zarr")
+    from lubelink.sweep import run_sweep
+
+    sweep = {"base": "paper", "set": {"solver.t_end": 0.05, "output.x_points": 5, "output.pad_points": 5},
+             "vary": {"film.viscosity": [0.05, 0.1, 0.2]}}
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=":0") as client:
+        ds = run_sweep(sweep, tmp_path / "s.zarr", client=client, progress=True)
+    assert bool(ds.done.all())
+    err = capsys.readouterr().err
+    assert "\r" not in err
+    lines = [line for line in err.splitlines() if line.startswith("sweep: ")]
+    assert lines[0] == "sweep: 3 point(s) to compute, 0 stored; 1 worker(s)"
+    assert lines[1].startswith("sweep: 3/3 pt in 0:") and lines[1].endswith(", failed 0, remaining 0")
+    assert len(lines) == 2

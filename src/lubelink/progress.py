@@ -1,12 +1,16 @@
-"""The progress line of ``lubelink run`` on a terminal: phase, simulated time, time left.
+"""Progress on a terminal, and plain lines in a log: the run's line and the other commands' bars.
 
-:class:`Progress` draws one line on a terminal, and nothing at all on anything else (a file, a
-pipe, a log: :func:`on_terminal`). It names the phase the run is in (starting, which includes
-compiling on a first run; simulating; sampling the results; writing the file), shows the
-simulated fraction while simulating, and estimates the time left from the rate at which the
-simulated time advances, once a few reports have come in after the start (so that compiling or
+:class:`Progress` is the line of ``lubelink run``: drawn on a terminal, nothing at all on anything
+else (a file, a pipe, a log: :func:`on_terminal`). It names the phase the run is in (starting,
+which includes compiling on a first run; simulating; sampling the results; writing the file),
+shows the simulated fraction while simulating, and estimates the time left from the rate at which
+the simulated time advances, once a few reports have come in after the start (so that compiling or
 loading the compiled code does not enter the rate). A background thread redraws the line while
 no report comes, so a long write or a compilation still shows the time passing.
+
+:class:`Bar` is the progress bar of ``figures``, ``sweep``, ``animate`` and ``simulate(...,
+progress=True)``: tqdm's bar on a terminal (or a notebook's widget), and on anything else one
+plain line per stage and one at the end, never the carriage returns of a redrawn bar.
 """
 
 from __future__ import annotations
@@ -14,10 +18,11 @@ from __future__ import annotations
 import io
 import os
 import shutil
+import sys
 import threading
 import time
 
-__all__ = ["Progress", "on_terminal"]
+__all__ = ["Progress", "Bar", "on_terminal"]
 
 
 #: The phase before the first report: imports, the model, compiling (first run) or loading the
@@ -185,3 +190,116 @@ class Progress:
             except (OSError, ValueError):
                 pass
             self._drawn = 0
+
+
+def _notebook() -> bool:
+    """Whether tqdm.auto draws a notebook's widget here (an IPython kernel with ipywidgets), not text."""
+    if "ipykernel" not in sys.modules:
+        return False
+    from tqdm.auto import tqdm
+
+    return any(c.__module__ == "tqdm.notebook" for c in tqdm.__mro__)
+
+
+class Bar:
+    """A progress bar of ``total`` units: tqdm's on a terminal, plain lines anywhere else.
+
+    On a terminal (or in a notebook) it is a tqdm bar on ``stream``. On a stream that is not a
+    terminal (a file, a pipe, a log) it writes one line per :meth:`stage` (``"figures: fig9:
+    simulating paper-impact"``) and one on :meth:`close` (``"figures: 8/8 fig in 2:41"``), each
+    ended by a newline and flushed, so that a log reads as a list of what was done. With
+    ``enabled`` false it writes nothing.
+
+    Parameters
+    ----------
+    total : int or float
+        Units to do.
+    desc, unit : str
+        What the bar counts (``"sweep"``, ``"pt"``).
+    stream : file, optional
+        Where to write (default ``sys.stderr``).
+    enabled : bool
+        False: nothing is written.
+    initial : int or float
+        Units already done.
+    **tqdm_options
+        Passed to tqdm (``bar_format``, ``leave``, ``mininterval``, ...).
+    """
+
+    def __init__(self, total, desc, unit, *, stream=None, enabled=True, initial=0, **tqdm_options):
+        self.stream = sys.stderr if stream is None else stream
+        self.total, self.desc, self.unit, self.n = total, desc, unit, initial
+        self.enabled = bool(enabled)
+        self.began = time.monotonic()
+        self.name = ""  # the item being done (:meth:`describe`)
+        self.noted = ""  # the last :meth:`note`, quoted in the closing line
+        self.tqdm = None
+        if self.enabled and (on_terminal(self.stream) or _notebook()):
+            from tqdm.auto import tqdm
+
+            self.tqdm = tqdm(total=total, initial=initial, desc=desc, unit=unit, file=self.stream, **tqdm_options)
+
+    @property
+    def plain(self) -> bool:
+        """Whether it writes plain lines (enabled, not on a terminal)."""
+        return self.enabled and self.tqdm is None
+
+    def _line(self, text):
+        try:
+            self.stream.write(f"{self.desc}: {text}\n")
+            self.stream.flush()
+        except (OSError, ValueError):
+            self.enabled = False
+
+    def describe(self, name):
+        """Start item ``name`` (a figure): the bar's description, or a line ``desc: name (k/total)``."""
+        self.name = name
+        if self.tqdm is not None:
+            self.tqdm.set_description(name)
+        elif self.plain:
+            self._line(f"{name} ({self.n + 1:g}/{self.total:g})")
+
+    def stage(self, text):
+        """A stage worth a line in a log (a simulation starting): beside the bar, or a line."""
+        if self.tqdm is not None:
+            self.tqdm.set_postfix_str(text)
+        elif self.plain:
+            self._line(f"{self.name}: {text}" if self.name else text)
+
+    def note(self, text, refresh=True):
+        """A detail that changes often (counts, the latest trial): beside the bar only; a log gets
+        the last one in the closing line."""
+        self.noted = text
+        if self.tqdm is not None:
+            self.tqdm.set_postfix_str(text, refresh=refresh)
+
+    def update(self, n=1):
+        """``n`` more units done."""
+        self.n += n
+        if self.tqdm is not None:
+            self.tqdm.update(n)
+
+    def advance_to(self, value):
+        """``value`` units done in all (the simulated time reached); the bar redrawn a hundred times at most."""
+        if self.tqdm is not None:
+            self.tqdm.n = value
+            if value - self.tqdm.last_print_n > 0.01 * (self.total or 1):
+                self.tqdm.refresh()
+        self.n = value
+
+    def close(self):
+        """End: the bar closed, or the closing line ``desc: n/total unit in m:ss[, note]``."""
+        if self.tqdm is not None:
+            self.tqdm.close()
+            self.tqdm = None
+        elif self.plain:
+            self._line(f"{self.n:g}/{self.total:g} {self.unit} in {clock(time.monotonic() - self.began)}"
+                       + (f", {self.noted}" if self.noted else ""))
+            self.enabled = False
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False

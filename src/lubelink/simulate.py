@@ -264,7 +264,9 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
         ``beam.model = "spatial"`` a spatial one (:mod:`lubelink.link.spatial_motion`:
         ``sampled_spatial_motion`` or ``SpatialPrescribedMotion``).
     progress : bool or callable
-        ``True`` shows a progress bar on stderr; a callable receives the simulated time.
+        ``True`` shows a progress bar on stderr where it is a terminal (elsewhere a line at the
+        start and one at the end: :class:`lubelink.progress.Bar`); a callable receives the
+        simulated time.
     section : lubelink.link.section.Section, optional
         ``A(x)``, ``I(x)`` of the link (callables or sampled tables) replacing the beam's section.
 
@@ -281,16 +283,12 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
     """
     config = resolve(source, set)
     model = first_run(build_model(config, motion, section), motion)
-    if progress is True:
-        from tqdm.auto import tqdm
+    if progress is True:  # tqdm's bar on a terminal, a line at the start and the end in a log
+        from .progress import Bar
 
-        with tqdm(total=config.solver.t_end, unit="s", unit_scale=True, desc="simulating", leave=False,
-                  mininterval=0.25) as bar:
-            def report(t):
-                bar.n = t
-                bar.refresh() if bar.n - bar.last_print_n > 0.01 * bar.total else None
-
-            result = run(config, motion, report, model=model)
+        with Bar(config.solver.t_end, "simulating", "s", unit_scale=True, leave=False, mininterval=0.25) as bar:
+            bar.stage(f"{config.solver.t_end:g} s of motion")
+            result = run(config, motion, bar.advance_to, model=model)
     else:
         result = run(config, motion, progress or None, model=model)
     ds = to_dataset(result)

@@ -41,6 +41,9 @@ def animate(source="paper", set=None, output="mechanism.gif", fps=20, duration=0
         Playback speed relative to real time [-] (0.1: ten times slower).
     overwrite : bool
         Replace an existing file.
+    progress : bool
+        Progress bars on stderr of the simulation and the drawing (where stderr is not a
+        terminal: a line at the start and the end of each, :class:`lubelink.progress.Bar`).
 
     Returns
     -------
@@ -88,11 +91,10 @@ def animate(source="paper", set=None, output="mechanism.gif", fps=20, duration=0
     bar = None
     callback = None
     if progress:
-        import sys
+        from ..progress import Bar
 
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=ds.sizes["time"], unit="frame", desc="animating", file=sys.stderr, leave=False)
+        bar = Bar(ds.sizes["time"], "animating", "frame", leave=False)
+        bar.stage(f"drawing {ds.sizes['time']} frames into {output.name}")
 
         def callback(i, n):
             bar.update(1)

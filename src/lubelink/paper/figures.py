@@ -127,7 +127,7 @@ def _fig9(study, res, ctx):
 
     def progress(H, t):
         if bar is not None:
-            bar.set_postfix_str(f"calibrating: H = {H * 1e3:.6f} mm, first impact {t:.4f} s")
+            bar.note(f"calibrating: H = {H * 1e3:.6f} mm, first impact {t:.4f} s")
 
     def calibrate(refresh=False):
         return calibrate_clearance(PAPER_IMPACT_TIME, "paper-impact", {**study.overrides, **impact},
@@ -165,7 +165,7 @@ def _impact_map(study, res, ctx):
 
     def progress(mu, H, t):
         if bar is not None:
-            bar.set_postfix_str(f"mu = {mu * 1e3:g} mPa s, H = {H * 1e3:.2f} mm: first impact {t:.4f} s")
+            bar.note(f"mu = {mu * 1e3:g} mPa s, H = {H * 1e3:.2f} mm: first impact {t:.4f} s")
 
     impacts = first_impact_map(m["viscosities"], m["clearances"], "paper-impact",
                                {**study.overrides, **ctx.get("impact", {}), **m.get("set", {})}, t_stop=2.0,
@@ -227,7 +227,8 @@ def make_figures(outdir="figures", low_res=False, only=None, progress=False, for
     only : sequence of str, optional
         Keys of :data:`FIGURES` to make (default all).
     progress : bool
-        Progress bar on stderr.
+        Progress bar on stderr (:class:`lubelink.progress.Bar`: where stderr is not a terminal, a
+        line per figure and per simulation).
     formats : sequence of str
         File formats.
     overrides : dict, optional
@@ -254,16 +255,14 @@ def make_figures(outdir="figures", low_res=False, only=None, progress=False, for
     outdir.mkdir(parents=True, exist_ok=True)
     bar = None
     if progress:
-        import sys
+        from ..progress import Bar
 
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(names), unit="fig", desc="figures", file=sys.stderr, leave=False,
-                   bar_format="{desc}{n}/{total} figures |{bar}| {elapsed}{postfix}")
+        bar = Bar(len(names), "figures", "fig", leave=False,
+                  bar_format="{desc} {n}/{total} figures |{bar}| {elapsed}{postfix}")
 
     def announce(label):
         if bar is not None:
-            bar.set_postfix_str(f"simulating {label}")
+            bar.stage(f"simulating {label}")
 
     study = Study({**res["overrides"], **(overrides or {})}, progress=announce)
     ctx = {"bar": bar, "cache": outdir / "calibration.json", "impact": dict(impact or {})}
@@ -273,7 +272,7 @@ def make_figures(outdir="figures", low_res=False, only=None, progress=False, for
     try:
         for name in names:
             if bar is not None:
-                bar.set_description(name)
+                bar.describe(name)
             fig, data = BUILDERS[name](study, res, ctx)
             out.paths[name] = _save(fig, outdir, FIGURES[name], res["dpi"], formats)
             out.data[name] = data

@@ -181,7 +181,7 @@ def _cmd_sweep(args):
             check_size(sp, max_points, estimate.workers)
         except SweepError as exc:
             raise UsageError(str(exc)) from None
-        bar = _bar(not args.quiet and sys.stderr.isatty(), sp.size, "validating") if sp.size >= 500 else None
+        bar = _bar(not args.quiet, sp.size, "validating") if sp.size >= 500 else None
         try:
             invalid = sp.invalid_points_of(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
         finally:

@@ -4,7 +4,8 @@ Validate every point, open (or resume) the store, start or reach a Dask cluster
 (:func:`_dask_client`), then keep a moving window of tasks in flight (:func:`_execute`): one point
 per task, or as many as take about ``task_seconds`` once the points' duration is known. Each
 task's points are committed to the store as it completes, so an interruption loses at most the
-points being computed. Dask and tqdm are imported inside the functions.
+points being computed. Dask and tqdm are imported inside the functions; the progress bar
+(:class:`lubelink.progress.Bar`) writes plain lines where stderr is not a terminal.
 """
 
 from __future__ import annotations
@@ -351,12 +352,13 @@ class _Queue:
 
 
 def _bar(progress, total, desc, initial=0):
-    from tqdm.auto import tqdm
+    """A :class:`lubelink.progress.Bar` of points on stderr: tqdm's on a terminal, plain lines in a log."""
+    from ..progress import Bar
 
-    return tqdm(total=total, initial=initial, desc=desc, unit="pt", file=sys.stderr, disable=not progress,
-                dynamic_ncols=True, smoothing=0.05, mininterval=0.2,
-                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n}/{total} [{elapsed}<{remaining}, "
-                           "{rate_fmt}{postfix}]")
+    return Bar(total, desc, "pt", stream=sys.stderr, enabled=progress, initial=initial,
+               dynamic_ncols=True, smoothing=0.05, mininterval=0.2,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n}/{total} [{elapsed}<{remaining}, "
+                          "{rate_fmt}{postfix}]")
 
 
 def _execute(client, st, sp, pending, done, status, progress, trace, session, task_seconds):
@@ -423,7 +425,8 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
     window = 3 * nthreads + 2
     last_window = time.monotonic()
     bar = _bar(progress, sp.size, "sweep", initial=n_done)
-    bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
+    bar.stage(f"{len(pending)} point(s) to compute, {n_done} stored; {nthreads} worker(s)")
+    bar.note(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
     lost = 0
     try:
         submit(nthreads + 1)  # one point a task until a point's duration is known, then the window in batches
@@ -450,7 +453,7 @@ def _execute(client, st, sp, pending, done, status, progress, trace, session, ta
                 session["failed"] += new_failed
                 n_done += len(results)
                 failed += new_failed
-                bar.set_postfix_str(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
+                bar.note(f"failed {failed}, remaining {sp.size - n_done}", refresh=False)
                 bar.update(len(results))
             del fut, result, results
             if time.monotonic() - last_window > 30.0:  # follow a cluster that scales
