@@ -248,6 +248,20 @@ def test_a_spatial_sweep_stores_the_out_of_plane_twins():
         read_sweep({**SPATIAL_SWEEP, "vary": {"mechanism.rod_length": [1.0, 1.1]}, "store": {"time_series": ["u3"]}})
 
 
+def test_a_point_summarises_the_engineering_outputs_as_the_results_hold_them():
+    ds = lubelink.simulate("paper", set={"solver.t_end": 0.05, "output.x_points": 5})
+    names = ("peak_stress", "peak_film_friction", "mean_film_power_loss", "peak_crank_pin_force",
+             "peak_slider_pin_force")
+    s = summarise(ds, names)
+    assert s["peak_stress"] == float(ds["bending_stress"].max())
+    assert s["peak_film_friction"] == float(np.abs(ds["film_friction"]).max())
+    assert s["mean_film_power_loss"] == pytest.approx(float(ds["film_power_loss"].mean()), rel=1e-12)
+    assert s["peak_crank_pin_force"] == float(np.hypot(ds["crank_pin_force_X"], ds["crank_pin_force_Y"]).max())
+    assert s["peak_slider_pin_force"] == float(np.abs(ds["slider_pin_force"]).max())
+    dry = summarise(lubelink.simulate("paper-dry", set={"solver.t_end": 0.05, "output.x_points": 5}), names)
+    assert np.isnan(dry["peak_film_friction"]) and np.isfinite(dry["peak_crank_pin_force"])
+
+
 def test_a_spatial_point_summarises_u3_and_u1():
     sp = read_sweep({**SPATIAL_SWEEP, "store": {"time_series": ["u2_mid", "u1"]}})
     config = sp.point_config(2)

@@ -83,6 +83,14 @@ def summarise(ds, quantities=DEFAULT_QUANTITIES, max_impacts=10) -> dict:
         "peak_asperity_force": lambda: peak("asperity_force"),
         "peak_contact_force": lambda: peak("contact_force"),
         "regime": lambda: regime(ds),
+        "peak_stress": lambda: peak("bending_stress"),
+        "peak_film_friction": lambda: peak("film_friction"),
+        "mean_film_power_loss": lambda: float(np.mean(values("film_power_loss"))) if values("film_power_loss").size
+        else math.nan,
+        "peak_crank_pin_force": lambda: float(np.max(np.hypot(values("crank_pin_force_X"),
+                                                              values("crank_pin_force_Y"))))
+        if values("crank_pin_force_X").size else math.nan,
+        "peak_slider_pin_force": lambda: peak("slider_pin_force"),
         "end_time": lambda: float(t[-1]) if t.size else math.nan,
         "nfev": lambda: int(ds.attrs.get("nfev", -1)),
         "impact_times": lambda: [float(t) for t in times[:max_impacts]]
@@ -142,7 +150,10 @@ def _sample(ds, name, n_time, output_step):
 _SOURCES = {"peak_u2_mid": ("u2_mid",), "peak_pressure": ("pressure",), "min_film": ("film_min",),
             "peak_film_force": ("film_force",), "peak_u3_mid": ("u3_mid",), "peak_axial": ("u1",),
             "peak_asperity_force": ("asperity_force",), "peak_contact_force": ("contact_force",),
-            "regime": ("film_force", "asperity_force", "contact_force")}
+            "regime": ("film_force", "asperity_force", "contact_force"), "peak_stress": ("bending_stress",),
+            "peak_film_friction": ("film_friction",), "mean_film_power_loss": ("film_power_loss",),
+            "peak_crank_pin_force": ("crank_pin_force_X", "crank_pin_force_Y"),
+            "peak_slider_pin_force": ("slider_pin_force",)}
 
 
 def _simulate_point(config, opts):

@@ -33,6 +33,13 @@ QUANTITIES = {
     "peak_axial": ("m", "peak absolute axial displacement over the link, max |u1| (NaN: planar model)", "f"),
     "peak_asperity_force": ("N", "peak absolute asperity contact force on the link (NaN: smooth surfaces)", "f"),
     "peak_contact_force": ("N", "peak contact force of the collar on the link (NaN: no contact law)", "f"),
+    "peak_stress": ("Pa", "peak bending stress in the link, max bending_stress", "f"),
+    "peak_film_friction": ("N", "peak absolute viscous friction force of the films on the link (NaN: no 1-D film)",
+                           "f"),
+    "mean_film_power_loss": ("W", "power lost in the films, averaged over the samples (NaN: no 1-D film)", "f"),
+    "peak_crank_pin_force": ("N", "peak crank pin force on the link, max |(R_OX, R_OY)| (NaN: not the planar "
+                                  "slider-crank with a 1-D film or none)", "f"),
+    "peak_slider_pin_force": ("N", "peak absolute slider pin force on the link (NaN: as peak_crank_pin_force)", "f"),
     "regime": ("1", "lubrication regime: full film, mixed (the asperities' peak force over 1 % of the film's), "
                     "contact (impacts, contact force or breakdown) or dry (no film)", "s"),
 }
@@ -41,7 +48,9 @@ QUANTITIES = {
 SPATIAL_COMPANIONS = {"peak_u2_mid": ("peak_u3_mid", "peak_axial"), "u2_mid": ("u3_mid",), "u2": ("u3",)}
 #: Stored when ``[store] quantities`` is not given (and, with spatial points, their companions).
 DEFAULT_QUANTITIES = tuple(q for q in QUANTITIES if q not in ("impact_times", "peak_asperity_force", "peak_contact_force",
-                                                               "regime")
+                                                               "regime", "peak_stress", "peak_film_friction",
+                                                               "mean_film_power_loss", "peak_crank_pin_force",
+                                                               "peak_slider_pin_force")
                            and not any(q in c for c in SPATIAL_COMPANIONS.values()))
 #: Always stored for every point, whatever ``quantities`` says.
 ALWAYS = {
