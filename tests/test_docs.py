@@ -1,11 +1,14 @@
 """The documentation: docs/model.md citations resolve, its function references exist, the site builds.
 
-The site build needs the ``docs`` extras (``pip install -e '.[docs]'``); CI installs only ``test``,
-so that test is skipped there, with the reason.
+The site build needs the ``docs`` extras (``pip install -e '.[docs]'``); where they are missing the
+site's tests are skipped, with the reason. The site is built without running the gallery's examples
+(``tests/test_examples.py`` runs them); ``LUBELINK_DOCS_EXECUTE=1 python -m pytest tests/test_docs.py``
+builds it with them run, as ``mkdocs build`` does.
 """
-
+import html.parser
 import importlib
 import importlib.util
+import os
 import re
 import subprocess
 import sys
@@ -102,48 +105,159 @@ def test_functions_named_in_model_md_exist():
 
 
 # --- the documentation site --------------------------------------------------------------------------
-_TOOLS = ("mkdocs", "material", "mkdocstrings", "mkdocstrings_handlers.python")
+_TOOLS = ("mkdocs", "material", "mkdocstrings", "mkdocstrings_handlers.python", "math_core")
 _MISSING = [m for m in _TOOLS if importlib.util.find_spec(m.split(".")[0]) is None
             or (m == "mkdocstrings_handlers.python" and importlib.util.find_spec(m) is None)]
 needs_docs_tools = pytest.mark.skipif(bool(_MISSING), reason=f"the docs tools are not installed ({', '.join(_MISSING)}); "
                                                               "pip install -e '.[docs]' to build the site")
+# the tests of the built site share one build, on one xdist worker
+same_build = pytest.mark.xdist_group("docs-site")
+
+
+def _hooks():
+    sys.path.insert(0, str(ROOT / "tools"))
+    try:
+        import docs_hooks
+    finally:
+        sys.path.pop(0)
+    return docs_hooks
+
+
+def _mkdocs_build(cwd, site, execute="0"):
+    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1", "LUBELINK_DOCS_EXECUTE": execute}
+    return subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(site)], cwd=cwd,
+                          capture_output=True, text=True, timeout=3600, env=env)
 
 
 @needs_docs_tools
 def test_readme_links_become_site_links():
-    sys.path.insert(0, str(ROOT / "tools"))
-    try:
-        from docs_hooks import readme_as_index
-    finally:
-        sys.path.pop(0)
     text = "[a](docs/paper.md) ![f](docs/figures/x.png) [b](docs/sweeps.md#validation) [c](https://x.org/y) [d](benchmarks/README.md)"
-    assert readme_as_index(text) == ("[a](paper.md) ![f](figures/x.png) [b](sweeps.md#validation) "
-                                     "[c](https://x.org/y) d (`benchmarks/README.md`)")
+    assert _hooks().readme_as_index(text) == ("[a](paper.md) ![f](figures/x.png) [b](sweeps.md#validation) "
+                                              "[c](https://x.org/y) d (`benchmarks/README.md`)")
 
 
-@pytest.mark.slow
-@needs_docs_tools
-def test_site_builds_with_api_reference_and_executed_gallery(tmp_path):
-    site = tmp_path / "site"
-    proc = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(site)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=3600,
-                          env={**__import__("os").environ, "NO_MKDOCS_2_WARNING": "1", "LUBELINK_DOCS_EXECUTE": "1"})
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """The site, built as CI builds it: strict, the examples not run unless ``LUBELINK_DOCS_EXECUTE=1``."""
+    site = tmp_path_factory.mktemp("docs") / "site"
+    proc = _mkdocs_build(ROOT, site, execute=os.environ.get("LUBELINK_DOCS_EXECUTE", "0"))
     assert proc.returncode == 0, proc.stderr[-4000:]
+    return site
+
+
+@needs_docs_tools
+@same_build
+def test_site_builds_with_api_reference_and_gallery(site):
     film_api = _text(site / "api" / "film" / "index.html")
     assert 'id="lubelink.film.force.modal_film_force"' in film_api
     assert "Gauss-Legendre" in film_api  # the docstring's text, not only the name
     gallery = _text(site / "gallery" / "film_models" / "index.html")
-    assert "Output (run when this site was built" in gallery
-    assert "film_breakdown" in gallery  # what the example printed: the reversed crank's wedge film breaks down
+    if os.environ.get("LUBELINK_DOCS_EXECUTE", "0") not in ("0", "false", "no"):
+        assert "Output (run when this site was built" in gallery
+        assert "film_breakdown" in gallery  # what the example printed: the reversed crank's wedge film breaks down
+    else:
+        assert "Not run when this site was built" in gallery
     model = _text(site / "model" / "index.html")
     assert 'id="43-first-integral"' in model  # the numbered sections the code cites are anchors
     index = _text(site / "index.html")
     assert 'href="model/"' in index  # README's link to docs/model.md works on the site
+    assert 'href="gallery/film_models/"' in index  # the gallery's pages are in the navigation
+
+
+class _Page(html.parser.HTMLParser):
+    """What a page loads (``src``, ``href`` of everything but links, ``data``) and its text outside code and math."""
+
+    def __init__(self):
+        super().__init__(convert_charrefs=True)
+        self.loads, self.text, self.formulas, self._inside = [], [], 0, []
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        self.loads += [attrs[key] for key in ("src", "data", "srcset") if attrs.get(key)]
+        if tag != "a" and attrs.get("href"):
+            self.loads.append(attrs["href"])
+        self.formulas += tag == "math"
+        if tag in ("pre", "code", "math", "script", "style"):
+            self._inside.append(tag)
+
+    def handle_endtag(self, tag):
+        if tag in self._inside:
+            del self._inside[len(self._inside) - 1 - self._inside[::-1].index(tag):]
+
+    def handle_data(self, data):
+        if not self._inside:
+            self.text.append(data)
+
+
+def _pages(site):
+    for path in sorted(site.rglob("*.html")):
+        page = _Page()
+        page.feed(_text(path))
+        yield path.relative_to(site), page
+
+
+_EXTERNAL = re.compile(r"^(?:[a-z][a-z0-9+.-]*:)?//", re.I)
+
+
+@needs_docs_tools
+@same_build
+def test_site_loads_nothing_from_elsewhere(site):
+    """Read offline, every page shows: no script, style sheet, font or image is fetched from another host."""
+    external = [(str(path), url) for path, page in _pages(site) for url in page.loads if _EXTERNAL.match(url)]
+    for css in site.rglob("*.css"):
+        external += [(str(css.relative_to(site)), url)
+                     for url in re.findall(r"""(?:url\(|@import\s+)["']?((?:[a-z]+:)?//[^"')\s]+)""", _text(css))]
+    assert external == []
+
+
+@needs_docs_tools
+@same_build
+def test_formulas_are_mathml_written_at_build_time(site):
+    pages = dict(_pages(site))
+    assert pages[Path("model/index.html")].formulas > 400  # docs/model.md has about 500
+    assert not list(site.rglob("*mathjax*"))
+    for path, page in pages.items():
+        text = "".join(page.text)
+        assert "\\(" not in text and "\\[" not in text, path  # no formula left for a script to typeset
+        assert "$" not in text, (path, re.findall(r".{0,40}\$.{0,40}", text))  # nor one Markdown did not see
+
+
+@needs_docs_tools
+def test_a_formula_that_does_not_convert_fails_the_build(tmp_path):
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "index.md").write_text("# Formulas\n\nGood $u_2''$, bad $\\frac{a}{b$.\n", encoding="utf-8")
+    (tmp_path / "hooks.py").write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'tools')!r})\n"
+                                       "from docs_hooks import on_page_content\n", encoding="utf-8")
+    (tmp_path / "mkdocs.yml").write_text("site_name: t\nstrict: true\nhooks: [hooks.py]\n"
+                                         "markdown_extensions:\n  - pymdownx.arithmatex:\n      generic: true\n",
+                                         encoding="utf-8")
+    proc = _mkdocs_build(tmp_path, tmp_path / "site")
+    assert proc.returncode != 0
+    assert "index.md: the formula '\\frac{a}{b' does not convert to MathML" in proc.stderr, proc.stderr[-2000:]
+    (tmp_path / "docs" / "index.md").write_text("# Formulas\n\nGood $u_2''$.\n", encoding="utf-8")
+    proc = _mkdocs_build(tmp_path, tmp_path / "site")
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "<math><msubsup><mi>u</mi>" in _text(tmp_path / "site" / "index.html")
+
+
+@needs_docs_tools
+def test_gallery_page_shows_what_an_example_printed_and_drew(tmp_path):
+    script = tmp_path / "tiny.py"
+    script.write_text('"""A tiny example.\n\nIt prints and draws."""\nfrom pathlib import Path\nprint("hello")\n'
+                      'Path("curve.png").write_bytes(b"png")\n', encoding="utf-8")
+    page, images = _hooks().example_page(script, execute=True)
+    assert page.startswith("# A tiny example\n") and "It prints and draws." in page
+    assert "```text\nhello\n```" in page and "![curve.png](tiny-curve.png)" in page
+    assert images == {"tiny-curve.png": b"png"}
+    page, images = _hooks().example_page(script, execute=False)
+    assert "Not run when this site was built" in page and images == {}
 
 
 def test_every_page_is_in_the_navigation():
-    """mkdocs only lists a page left out of ``nav`` at INFO level, which ``--strict`` lets through: every Markdown
-    page under docs/ must be named in mkdocs.yml's navigation (figures/mode-convergence.md was not)."""
+    """Every Markdown page under docs/ is named in mkdocs.yml's navigation (figures/mode-convergence.md was not).
+
+    mkdocs.yml makes a page left out a warning (``validation: nav: omitted_files``), failing the strict build;
+    this checks the source without the docs tools. The gallery's pages are generated, and listed by the hooks."""
     nav = (ROOT / "mkdocs.yml").read_text(encoding="utf-8").split("\nnav:", 1)[1]
     named = set(re.findall(r"([\w./-]+\.md)\s*$", nav, flags=re.M))
     pages = {str(p.relative_to(ROOT / "docs")) for p in (ROOT / "docs").rglob("*.md")}

@@ -1,4 +1,4 @@
-"""MkDocs hooks of the documentation site (mkdocs.yml): the home page and the gallery.
+"""MkDocs hooks of the documentation site (mkdocs.yml): the home page, the gallery and the formulas.
 
 * ``index.md`` is generated from README.md, its links into docs/ made relative to the site.
 * ``reliability.md``: the marker ``<!-- reliability-table: README.md -->`` becomes the README's
@@ -7,13 +7,20 @@
   source tree first on ``PYTHONPATH``; its page shows the docstring, the source, what it printed
   and the images it wrote. An example that fails fails the build. ``examples/*.toml`` (sweep
   files) are shown with the command that runs them, not run. ``LUBELINK_DOCS_EXECUTE=0`` builds
-  the gallery without running the examples (the pages say so).
+  the gallery without running the examples (the pages say so). Each example's page is in the
+  navigation, under the gallery's index.
 * API pages: the reST roles of the docstrings (``:func:`x```) are shown as plain code.
+* Formulas (``$...$``, ``$$...$$``, marked up by ``pymdownx.arithmatex``) are rendered to MathML when
+  the site is built (``math-core``), so that a page shows them without a script or a network; a
+  formula that does not convert is a warning, which ``strict`` turns into a failed build.
 """
 
 from __future__ import annotations
 
 import ast
+import functools
+import html
+import logging
 import os
 import re
 import subprocess
@@ -23,6 +30,8 @@ import time
 from pathlib import Path
 
 from mkdocs.structure.files import File
+
+log = logging.getLogger("mkdocs.hooks.lubelink")
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
@@ -123,6 +132,17 @@ def gallery_index(scripts, tomls) -> str:
 
 
 # --- MkDocs events -----------------------------------------------------------------------------------
+def on_config(config):
+    """Each example's gallery page in the navigation, under the gallery's index (``Gallery:`` in mkdocs.yml)."""
+    for i, entry in enumerate(config.nav or []):
+        if isinstance(entry, dict) and entry.get("Gallery") == "gallery/index.md":
+            pages = [{_title_and_body(ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))), path.stem)[0]:
+                      f"gallery/{path.stem}.md"} for path in sorted(EXAMPLES.glob("*.py"))]
+            config.nav[i] = {"Gallery": ["gallery/index.md", *pages]}
+            return config
+    raise ValueError("mkdocs.yml: the navigation lacks the entry 'Gallery: gallery/index.md'")
+
+
 def on_files(files, config):
     files.append(File.generated(config, "index.md",
                                 content=readme_as_index((ROOT / "README.md").read_text(encoding="utf-8"))))
@@ -148,7 +168,69 @@ def on_page_markdown(markdown, page, config, files):
 _ROLE = re.compile(r":(?:py:)?(?:func|class|mod|meth|data|attr|exc|obj):(?=<code>)")
 
 
-def on_page_content(html, page, config, files):
-    """Docstrings cross-reference with reST roles; show them as plain code."""
-    html = _ROLE.sub("", html)
-    return re.sub(r"<code>~(?=[A-Za-z_])", "<code>", html)
+def on_page_content(content, page, config, files):
+    """Docstrings cross-reference with reST roles; show them as plain code. Formulas become MathML."""
+    content = _ROLE.sub("", content)
+    content = re.sub(r"<code>~(?=[A-Za-z_])", "<code>", content)
+    content, errors = render_formulas(content)
+    for error in errors:
+        log.warning("%s: %s", page.file.src_uri, error)
+    return content
+
+
+# --- formulas ----------------------------------------------------------------------------------------
+# pymdownx.arithmatex (generic): <span class="arithmatex">\(...\)</span> inline,
+# <div class="arithmatex">\[...\]</div> displayed, the TeX escaped as HTML
+_FORMULA = re.compile(r'<(span|div) class="arithmatex">\s*\\([(\[])(.*?)\\[)\]]\s*</\1>', re.S)
+
+
+@functools.lru_cache(maxsize=1)
+def _converter():
+    import math_core
+
+    return math_core.LatexToMathML(fancy_error=False)
+
+
+def tex_to_mathml(tex: str, display: bool) -> str:
+    """``<math>`` of the TeX formula ``tex``; ``ValueError`` naming it where it does not convert."""
+    import math_core
+
+    try:
+        mathml = _converter().convert_with_local_state(tex, displaystyle=display)
+    except math_core.LatexError as error:  # "offset: what", e.g. '0: Unknown command "\foo".'
+        raise ValueError(f"the formula '{tex}' does not convert to MathML: {error}") from None
+    return _boxes_as_rows(mathml)
+
+
+_ENCLOSE = re.compile(r"<menclose([^>]*)>|</menclose>")
+
+
+def _boxes_as_rows(mathml: str) -> str:
+    """``\\boxed`` is ``<menclose notation="box">``, which MathML Core (so Chromium) does not draw: an
+    ``<mrow class="boxed">`` instead, framed in every browser by docs/stylesheets/math.css."""
+    boxes = []  # of each open menclose, whether it is a box
+
+    def rename(match):
+        if match.group(0) == "</menclose>":
+            return "</mrow>" if boxes.pop() else match.group(0)
+        boxes.append('notation="box"' in match.group(1))
+        return '<mrow class="boxed">' if boxes[-1] else match.group(0)
+
+    return _ENCLOSE.sub(rename, mathml)
+
+
+def render_formulas(text: str):
+    """``(html, errors)``: the arithmatex formulas of ``text`` as MathML; a formula that does not
+    convert stays TeX in ``<code>``, and its error is in ``errors``."""
+    errors = []
+
+    def render(match):
+        tag, opening, tex = match.groups()
+        tex = html.unescape(tex).strip()
+        try:
+            return f'<{tag} class="arithmatex">{tex_to_mathml(tex, display=opening == "[")}</{tag}>'
+        except ValueError as error:
+            errors.append(str(error))
+            return f'<{tag} class="arithmatex"><code>{html.escape(tex)}</code></{tag}>'
+
+    return _FORMULA.sub(render, text), errors
