@@ -1,10 +1,11 @@
 """The documentation: docs/model.md citations resolve, its function references exist, the site builds.
 
-The site build needs the ``docs`` extras (``pip install -e '.[docs]'``); where they are missing the
-site's tests are skipped, with the reason. The site is built without running the gallery's examples
-(``tests/test_examples.py`` runs them); ``LUBELINK_DOCS_EXECUTE=1 python -m pytest tests/test_docs.py``
-builds it with them run, as ``mkdocs build`` does.
+The site build needs the docs tools, which the ``test`` extras include (``docs``); where they are
+missing the site's tests are skipped, with the reason. The site is built without running the
+gallery's examples (``tests/test_examples.py`` runs them); ``LUBELINK_DOCS_EXECUTE=1 python -m pytest
+tests/test_docs.py`` builds it with them run, as ``mkdocs build`` does.
 """
+
 import html.parser
 import importlib
 import importlib.util
@@ -112,6 +113,12 @@ needs_docs_tools = pytest.mark.skipif(bool(_MISSING), reason=f"the docs tools ar
                                                               "pip install -e '.[docs]' to build the site")
 # the tests of the built site share one build, on one xdist worker
 same_build = pytest.mark.xdist_group("docs-site")
+
+
+def test_ci_has_the_docs_tools():
+    """CI installs the ``test`` extras, which include the docs tools: there the site's tests must run, not skip."""
+    if os.environ.get("CI"):
+        assert _MISSING == []
 
 
 def _hooks():
