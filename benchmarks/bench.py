@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 
 CASES = [("paper", 1), ("paper", 7), ("paper-dry", 5), ("paper-dry", 7), ("paper-impact", 1)]
-SECTIONS = ("simulate", "run", "scipy", "methods", "compile")
+SECTIONS = ("simulate", "run", "scipy", "methods", "compile", "estimate")
 TIGHT = {"solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-15}
 
 
@@ -328,6 +328,32 @@ def bench_compile(args):
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         print(f"   `lubelink compile` (every kernel, every method) cold: {lubelink_process(['compile'], env):.1f} s")
+
+
+# --- 6. the up-front estimate against the run ------------------------------------------------------------
+def bench_estimate(args):
+    """Every built-in scenario: the estimate ``lubelink run`` acts on (run_cost + results_cost) against the
+    measured integration and the whole simulate(), warm (the minimum of a few)."""
+    import lubelink
+    from lubelink.config import SCENARIOS, resolve
+    from lubelink.estimate import results_cost, run_cost
+    from lubelink.simulate import run
+
+    print("\n6. estimated cost against the measured one, every built-in scenario (warm; min of 3)")
+    print(f"{'scenario':<22}{'estimate':>10}{'run':>10}{'simulate':>10}{'run/est':>9}{'sim/est':>9}")
+    for name in SCENARIOS:
+        config = resolve(name)
+        estimate = run_cost(config).seconds + results_cost(config)
+        lubelink.simulate(name)  # warm: compiled and loaded
+        t_run = min(timed_once(lambda: run(config)) for _ in range(3))
+        t_sim = min(timed_once(lambda: lubelink.simulate(name)) for _ in range(3))
+        print(f"{name:<22}{estimate:>9.3g}s{t_run:>9.3g}s{t_sim:>9.3g}s{t_run / estimate:>9.2f}{t_sim / estimate:>9.2f}")
+
+
+def timed_once(fn):
+    start = time.perf_counter()
+    fn()
+    return time.perf_counter() - start
 
 
 def main(argv=None):
