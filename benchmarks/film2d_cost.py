@@ -27,7 +27,7 @@ CASES = [
     ("1d", {}),
     ("short", {"film.reynolds": "short"}),
     ("2d", {"film.reynolds": "2d"}),
-    ("2d, 16 terms", {"film.reynolds": "2d", "film.width_modes": 16}),
+    ("2d, 16 sine terms", {"film.reynolds": "2d", "film.width_series": "sine", "film.width_modes": 16}),
     ("2d, grid 401", {"film.reynolds": "2d", "film.grid_points": 401}),
     ("2d, half-Sommerfeld", {"film.reynolds": "2d", "film.cavitation": "half-sommerfeld"}),
     ("1d, Swift-Stieber", {"film.cavitation": "reynolds"}),

@@ -39,6 +39,7 @@ CHOICES = {
     "film.cavitation": ("none", "half-sommerfeld", "reynolds"),
     "film.reynolds": ("1d", "2d", "short"),
     "film.faces": ("u2", "u2+u3"),
+    "film.width_series": ("fitted", "sine"),
     "beam.model": ("planar", "spatial"),
     "contact.law": ("none", "restitution", "compliant"),
     "contact.extent": ("point", "pad"),
@@ -86,7 +87,10 @@ FIELDS = {
     "film.grid_points": ("1", "", "pad grid points of the reynolds cavitation solver and of the 2d and short films"),
     "film.reynolds": ("", "", "1d: averaged across the width (paper); 2d: finite width; short: short-bearing "
                               "closed form"),
-    "film.width_modes": ("1", "", "odd sine terms across the width of the 2d film"),
+    "film.width_modes": ("1", "", "terms across the width of the 2d film, one solve along the pad each (fitted: "
+                                  "at most 8)"),
+    "film.width_series": ("", "", "the 2d film's terms: fitted (any pad, 1 to 8 terms) | sine (odd sine terms; "
+                                  "slow for wide pads)"),
     "film.width_points": ("1", "", "points across the width where the 2d film is clipped (half-Sommerfeld)"),
     "film.thickness_floor": ("m", "h_f", "below 2 h_f the Reynolds film h is h_f + h^2/(4 h_f); 0: off"),
     "film.roughness": ("m", "sigma", "combined RMS roughness; > 0: Greenwood-Tripp asperity contact, mean-gap film"),
@@ -257,10 +261,15 @@ class Film:
     reynolds : str
         ``"1d"``: the paper's film averaged across the width (long-bearing limit);
         ``"2d"``: the 2-D Reynolds equation on the pad, ambient at all four edges, by a
-        sine series across the width (:mod:`lubelink.film.width`); ``"short"``: the
+        few terms across the width (:mod:`lubelink.film.width`); ``"short"``: the
         short-bearing closed form (the flow along the pad neglected).
     width_modes : int
-        Odd sine terms across the width of the ``"2d"`` film [-].
+        Terms across the width of the ``"2d"`` film, one tridiagonal solve along the pad each [-].
+    width_series : str
+        The terms of the ``"2d"`` film (:func:`lubelink.film.width.width_terms`): ``"fitted"``,
+        wavenumbers and weights fitted to the film's width functions, accurate for every pad
+        (1 to 8 terms; docs/film2d.md); ``"sine"``, the odd terms of the sine series across the
+        width, which converge slowly on wide pads and steep films.
     width_points : int
         Points across the width where the ``"2d"`` film is clipped (half-Sommerfeld) [-].
     thickness_floor : float
@@ -302,6 +311,7 @@ class Film:
     grid_points: int = 201
     reynolds: str = "1d"
     width_modes: int = 8
+    width_series: str = field(default="fitted", metadata={"kernel": False})
     width_points: int = 32
     thickness_floor: float = 2.5e-6
     roughness: float = 0.0

@@ -255,7 +255,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
             for side, name in zip(model.sides, ("pressure", "pressure_lower")):
                 if name in want:
                     data[name] = _entry(name, pressure(X, q, q_dot, x_star, V_r, float(side), p.film, p.beam.width,
-                                                       L, p.pad.grid_trig, p.pad.zsin))
+                                                       L, p.pad.grid_trig, p.pad.width))
         if fm.reynolds == "1d" and ("film_friction" in want or "film_power_loss" in want):
             later["film_losses"] = _beside(compiled and threads > 1, derived.film_losses, model, q, q_dot, x_star, V_r)
         if "film_force" in want:

@@ -98,6 +98,7 @@ RULES = {
         "grid_points": _num(11, 100001, integer=True),
         "reynolds": _choice(CHOICES["film.reynolds"]),
         "width_modes": _num(1, 200, integer=True),
+        "width_series": _choice(CHOICES["film.width_series"]),
         "width_points": _num(4, 4096, integer=True),
         "thickness_floor": _num(0, 1e-2),
         "roughness": _num(0, 1e-3),
@@ -226,10 +227,16 @@ def validate(config: Config) -> Config:
                         f"film.ambient_pressure = {fm.ambient_pressure}")
     if fm.enabled and fm.reynolds == "2d" and fm.cavitation == "reynolds":
         problems.append("film.cavitation = 'reynolds': not available with film.reynolds = '2d' (the 2-D film "
-                        "is solved by a sine series across the width, which cannot hold the Swift-Stieber "
-                        "condition); use film.cavitation = 'half-sommerfeld', or film.reynolds = 'short' "
+                        "is solved by terms across the width, each linear in the film, which cannot hold the "
+                        "Swift-Stieber condition); use film.cavitation = 'half-sommerfeld', or film.reynolds = 'short' "
                         "(Swift-Stieber across the width) or '1d'; lubelink.film.pressure_2d solves one 2-D "
                         "film with it")
+    if fm.enabled and fm.reynolds == "2d" and fm.width_series == "fitted":
+        from .film.width_table import TERMS
+
+        if fm.width_modes not in TERMS:
+            problems.append(f"film.width_modes = {fm.width_modes}: must be an integer in [{min(TERMS)}, {max(TERMS)}] "
+                            "with film.width_series = 'fitted' (the fitted terms); 'sine' takes up to 200")
     if fm.model == "wedge+squeeze" and ct.min_film <= 0.0:
         problems.append(f"contact.min_film = {ct.min_film}: must be > 0 with film.model = 'wedge+squeeze' "
                         "(a squeeze film never closes in finite time)")

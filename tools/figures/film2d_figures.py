@@ -94,7 +94,7 @@ def force_over_width(xi, xi_t, V_r, cfg, out):
         B = r * l
         force["1d"].append(B * p1)
         for f in ("short", "2d"):
-            g, P, _ = width_pressure(xi, V_r, mu, B, l, xi_t=xi_t, reynolds=f, modes=40, grid_points=401)
+            g, P, _ = width_pressure(xi, V_r, mu, B, l, xi_t=xi_t, reynolds=f, grid_points=401)
             force[f].append(np.trapezoid(P, g))
         if r in ratios[::5]:
             Xc, Z = np.linspace(0, l, 201), np.linspace(-B / 2, B / 2, 81)

@@ -23,7 +23,7 @@ itself is the running integral of ``p_g'`` (half-Sommerfeld cavitation, the pres
 The Swift-Stieber (Reynolds) cavitation condition is an obstacle problem solved on a pad grid
 (:func:`reynolds_cavitation`).
 
-The film of finite width (``film.reynolds = "2d"`` or ``"short"``): :mod:`.width` (sine series
+The film of finite width (``film.reynolds = "2d"`` or ``"short"``): :mod:`.width` (a few terms
 across the width, the short-bearing closed form), what the right-hand side executes;
 :func:`pressure_2d` the 2-D Reynolds equation for any film ``xi(X, Z)``.
 """
@@ -33,7 +33,8 @@ from .force import (COS, SIN, VERS, PadTables, film_force_many, gauss_legendre, 
 from .pressure import (film_thickness, mode_film, mode_film_rate, pad_pressure, pad_pressure_many, pressure,
                        pressure_on_breaks, pressure_points)
 from .reynolds2d import pressure_2d, reynolds_2d_system
-from .width import ONE_D, SHORT, TWO_D, centre_pressure_many, width_film, width_pressure, width_sines
+from .width import (ONE_D, SHORT, TWO_D, centre_pressure_many, width_film, width_mean, width_pressure, width_profile,
+                    width_terms)
 from .reynolds import (CENTRE, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, WEDGE, WEDGE_SQUEEZE, pad_start,
                        pressure_gradient, reynolds_cavitation, reynolds_constant)
 
@@ -63,5 +64,7 @@ __all__ = [
     "width_film",
     "width_pressure",
     "centre_pressure_many",
-    "width_sines",
+    "width_terms",
+    "width_mean",
+    "width_profile",
 ]

@@ -18,7 +18,7 @@ from ..views import kernel_view
 from .reynolds import (CENTRE, COS, FULL, HALF_SOMMERFELD, NO_FILM, REYNOLDS, SIN, VERS, WEDGE,  # noqa: F401
                        WEDGE_SQUEEZE, effective_film, effective_film_slope, grid_modal_force, mean_gap_slope, pad_start,
                        pressure_gradient, reynolds_cavitation, reynolds_constant)
-from .width import ONE_D, width_side, width_sines
+from .width import ONE_D, width_side, width_terms
 from ..beam import wavenumber, wavenumbers
 
 __all__ = ["PadTables", "pad_tables", "gauss_legendre", "integration_matrix", "modal_film_force", "film_force_many",
@@ -44,9 +44,10 @@ class PadTables(NamedTuple):
     (4, N, G), ``sin``, ``cos`` at the points of the uniform grid and at its ``G - 1`` cell
     midpoints (Reynolds). A None table has another type in compiled code, so the kernels are
     compiled for the options a configuration uses only. ``grid_trig`` serves the finite-width
-    films too (``film.reynolds`` "2d", "short"), and ``zsin`` (K, W), the sines across the width
-    of :func:`~lubelink.film.width.width_sines`, the 2-D film clipped by half-Sommerfeld. Few arrays, because every array of the
-    parameters costs a reference count at each call of the right-hand side.
+    films too (``film.reynolds`` "2d", "short"), and ``width`` (3 + W, J) the terms of the 2-D film
+    across the width (:func:`~lubelink.film.width.width_terms`; with the ``W`` points where
+    half-Sommerfeld clips it). Few arrays, because every array of the parameters costs a
+    reference count at each call of the right-hand side.
     """
 
     quad: np.ndarray
@@ -54,7 +55,7 @@ class PadTables(NamedTuple):
     sample_trig: np.ndarray
     S: np.ndarray | None
     grid_trig: np.ndarray | None
-    zsin: np.ndarray | None = None
+    width: np.ndarray | None = None
 
 
 @lru_cache(maxsize=32)
@@ -93,10 +94,11 @@ def pad_tables(modes, rod_length, film: Film) -> PadTables:
     X = l * s
     sin_bX, cos_bX = _tables(beta, X)
     vers_bX = 2.0 * np.sin(0.5 * np.outer(beta, X)) ** 2  # 1 - cos without cancellation
-    S = grid_trig = zsin = None
+    S = grid_trig = width = None
     if film.reynolds != "1d":
-        if film.reynolds == "2d" and film.cavitation == "half-sommerfeld":
-            zsin = width_sines(film.width_modes, film.width_points)
+        if film.reynolds == "2d":
+            width = width_terms(film.width_modes, film.width_series,
+                                film.width_points if film.cavitation == "half-sommerfeld" else 0)
     elif film.cavitation == "half-sommerfeld" or (film.roughness > 0.0 and film.model == "wedge+squeeze"):
         S = _c(l * integration_matrix(film.quadrature_nodes))
     if film.cavitation == "reynolds" or film.reynolds != "1d":
@@ -105,7 +107,7 @@ def pad_tables(modes, rod_length, film: Film) -> PadTables:
         grid_trig = _c(np.stack(_tables(beta, grid) + _tables(beta, mid)))
     samples = np.linspace(0.0, l, 16 + 4 * modes)
     return PadTables(_c(np.stack([X, l * w])), _c(np.stack([sin_bX, cos_bX, vers_bX])),
-                     _c(np.stack(_tables(beta, samples))), S, grid_trig, zsin)
+                     _c(np.stack(_tables(beta, samples))), S, grid_trig, width)
 
 
 def _c(a):
@@ -319,7 +321,7 @@ def modal_film_force(q, q_dot, x_star, V_r, f, B, pad, L, F):
         if side < 0.0 and f.sides != 2:
             break
         if f.reynolds != ONE_D:
-            total += width_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, pad.zsin, F)
+            total += width_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, pad.width, F)
         elif f.cavitation == REYNOLDS:
             total += _reynolds_side(side, q, q_dot, ws, V_r, f, B, pad.grid_trig, F)
         else:
