@@ -54,7 +54,7 @@ STEPS_PER_SECOND = 250.0
 EVAL_BASE, EVAL_PER_MODE_NODE = 0.8e-6, 0.004e-6
 #: Seconds per point of the Reynolds cavitation grid per evaluation.
 EVAL_PER_GRID_POINT = 0.035e-6
-#: Seconds per pad grid point and sine term across the width (``film.reynolds = "2d"``) per evaluation,
+#: Seconds per pad grid point and term across the width (``film.reynolds = "2d"``) per evaluation,
 #: and per grid point, term and point across the width when that film is clipped (half-Sommerfeld).
 EVAL_PER_WIDTH_TERM, EVAL_PER_WIDTH_CLIP = 0.01e-6, 0.001e-6
 #: Seconds added per evaluation and per step by SciPy's methods (run as Python).
