@@ -120,10 +120,19 @@ def loops(f, g):
 if numba is not None:
     LOOPS = {False: loops(rhs, gap), True: loops(spatial_rhs, spatial_gap) if spatial_rhs is not None else None}
 cache = {}
+
+
+def value(text):
+    try:
+        return float(text)
+    except ValueError:  # a choice
+        return text
+
+
 print("ready", flush=True)
 for line in sys.stdin:
     scenario, modes, what, *extra = line.split()
-    over = {"beam.modes": int(modes), **{k: float(v) for k, v in (e.split("=") for e in extra)}}
+    over = {"beam.modes": int(modes), **{k: value(v) for k, v in (e.split("=") for e in extra)}}
     key = (scenario, modes, *extra)
     if key not in cache:
         model = build_model(resolve(scenario, over))
@@ -151,8 +160,8 @@ for line in sys.stdin:
 
 def servers(sources):
     """One warm process per ``src`` folder, timing on request (:data:`SERVER_SNIPPET`): a request is
-    ``"SCENARIO MODES simulate|rhs|gap [KEY=NUMBER ...]"``, the answer seconds (per call for the kernels,
-    in a compiled loop)."""
+    ``"SCENARIO MODES simulate|rhs|gap [KEY=VALUE ...]"`` (a number, or the text of a choice), the answer seconds
+    (per call for the kernels, in a compiled loop)."""
     procs = []
     for src in sources:
         env = dict(os.environ, PYTHONPATH=str(src), LUBELINK_PREWARM="0")

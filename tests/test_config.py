@@ -87,6 +87,9 @@ def test_all_problems_are_reported_together_with_key_value_and_rule():
     ({"beam": 3}, "must be a table"),
     ({"scenario": "nope"}, "scenario = 'nope'"),
     ({"solver": {"output_step": 1e-9, "t_end": 100.0}}, "would hold more than"),
+    ({"beam": {"model": "spatial", "axial_end": "pinned"}},
+     'beam.axial_end = \'pinned\': must be one of "fixed", "free"'),
+    ({"beam": {"axial_end": "fixed"}}, "beam.axial_end = 'fixed': an axial end condition needs beam.model = 'spatial'"),
 ])
 def test_consistency_rules(data, needle):
     assert any(needle in p for p in problems_of(data))

@@ -163,15 +163,18 @@ SPATIAL_FREE = {"film.model": "none", "contact.law": "none", "beam.damping_ratio
 Q0 = np.array([1e-7, -5e-8, 2e-4, -1e-4, 1.5e-4, 5e-5])
 
 
-def test_a_free_undamped_spatial_link_keeps_its_energy():
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_a_free_undamped_spatial_link_keeps_its_energy(end):
     """No load on a spatial link at rest: E = m/2 sum W_i^2 q_i(0)^2 over the axial, in-plane and out-of-plane modes
-    (frequencies by hand: n pi / L sqrt(E / rho), beta^2 sqrt(E I / rho A)) at every sample, every work zero."""
-    cfg = resolve("spatial-slider-crank", SPATIAL_FREE)
+    (frequencies by hand: n pi / L sqrt(E / rho) with a fixed axial end, (2 n - 1) pi / (2 L) sqrt(E / rho) with a
+    free one, beta^2 sqrt(E I / rho A)) at every sample, every work zero."""
+    cfg = resolve("spatial-slider-crank", {**SPATIAL_FREE, "beam.axial_end": end})
     r = run(cfg, motion=_spatial_at_rest(0.05), y0=np.r_[Q0, np.zeros(6)])
     ds = dataset(collect(r))
     b, L = cfg.beam, cfg.mechanism.rod_length
     beta = np.arange(1, 3) * np.pi / L
-    W = np.r_[beta * np.sqrt(b.youngs_modulus / b.density),
+    k = beta if end == "fixed" else np.array([1.0, 3.0]) * np.pi / (2 * L)
+    W = np.r_[k * np.sqrt(b.youngs_modulus / b.density),
               beta**2 * np.sqrt(b.youngs_modulus * b.width * b.height**3 / 12 / (b.density * b.width * b.height)),
               beta**2 * np.sqrt(b.youngs_modulus * b.height * b.width**3 / 12 / (b.density * b.width * b.height))]
     m = b.density * b.width * b.height * L / 2
@@ -181,14 +184,15 @@ def test_a_free_undamped_spatial_link_keeps_its_energy():
         assert np.all(ds[name].values == 0.0), name
 
 
-def _spinning(frame_terms=True):
+def _spinning(frame_terms=True, end="free"):
     """A spatial link at rest in translation, its frame spinning at a constant w = (3, 20, 40) rad/s, released from
     Q0: the centrifugal and Coriolis accelerations exchange energy with it. Returns the largest relative residual
-    of the budget, with the frame's accelerations in the powers or (``frame_terms`` False) left out."""
+    of the budget, with the frame's accelerations in the powers or (``frame_terms`` False) left out; ``end`` the
+    axial end condition."""
     from lubelink import energy
 
     cfg = resolve("spatial-slider-crank", {**SPATIAL_FREE, "solver.backend": "numpy", "solver.t_end": 0.02,
-                                           "solver.output_step": 5e-6})
+                                           "solver.output_step": 5e-6, "beam.axial_end": end})
     r = run(cfg, motion=_spatial_at_rest(0.02, (3.0, 20.0, 40.0)), y0=np.r_[Q0, np.zeros(6)])
     assert r.status == "complete"
     original = energy.spatial
@@ -196,9 +200,14 @@ def _spinning(frame_terms=True):
         class NoFrame:
             rigid_loads = staticmethod(original.rigid_loads)
             axis_acceleration = staticmethod(original.axis_acceleration)
+            axial_rigid_load = staticmethod(original.axial_rigid_load)
 
             @staticmethod
             def frame_terms(w, al, x, v):
+                return 0.0, 0.0, 0.0
+
+            @staticmethod
+            def coupled_frame_terms(projection, w, al, y, n):
                 return 0.0, 0.0, 0.0
         energy.spatial = NoFrame
     try:
@@ -209,13 +218,15 @@ def _spinning(frame_terms=True):
     return residual / scale, series
 
 
-def test_a_spinning_frame_works_on_the_spatial_link_and_the_budget_closes():
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_a_spinning_frame_works_on_the_spatial_link_and_the_budget_closes(end):
     """The frame's centrifugal load does work (its power is of the order of the energy), the budget closes to
-    the quadrature error; without the frame's accelerations in the powers it misses by orders of magnitude."""
-    relative, series = _spinning()
+    the quadrature error; without the frame's accelerations in the powers it misses by orders of magnitude. With
+    either axial end (a free one couples the axial modes with all the bending sines)."""
+    relative, series = _spinning(end=end)
     assert np.abs(series["work_rigid"]).max() > 0.01 * series["energy"].max()
     assert relative < 1e-6
-    assert _spinning(frame_terms=False)[0] > 1e3 * relative
+    assert _spinning(frame_terms=False, end=end)[0] > 1e3 * relative
 
 
 @pytest.mark.parametrize("overrides", [
@@ -224,12 +235,15 @@ def test_a_spinning_frame_works_on_the_spatial_link_and_the_budget_closes():
     {"beam.width_ratio": 0.6, "beam.modes": 3},
     {"film.model": "none", "film.sides": 2, "film.faces": "u2+u3", "film.clearance": 1e-4, "contact.law": "compliant",
      "contact.min_film": 5e-6, "solver.t_end": 0.012, "solver.output_step": 2e-6},
+    {"beam.axial_end": "fixed"},
+    {"beam.axial_end": "fixed", "beam.width_ratio": 0.6, "beam.modes": 3},
 ])
 def test_the_spatial_link_closes_its_budget(overrides):
     """The spatial slider-crank: its film, a tilted crank with films on both pairs, a tapered link (eigenbases),
-    and compliant contacts on both pairs of faces. On 20 us samples: the axial modes (16,000 rad/s for the first)
-    vibrate, and on the default 1 ms samples Simpson's rule misses 1 % of the energy (measured: 1.0e-2, 9.1e-3,
-    6.5e-5, 6.2e-5 at 1000, 200, 50, 10 us, the last two the integration's error)."""
+    and compliant contacts on both pairs of faces, with the free axial end (the default) and the fixed one. On 20 us
+    samples: the axial modes (8,200 rad/s for the first, free; 16,300 fixed) vibrate, and on the default 1 ms
+    samples Simpson's rule misses 1 % of the energy (measured with the free end: 1.3e-2, 5.7e-4, 6.9e-6, 3.7e-6 at
+    1000, 200, 50, 10 us, the last two the integration's error; fixed: 1.0e-2, 9.1e-3, 6.5e-5, 6.2e-5)."""
     ds = lubelink.simulate("spatial-slider-crank", {"solver.t_end": 0.1, "solver.output_step": 2e-5, **overrides})
     assert ds.attrs["status"] == "complete"
     assert ds.attrs["energy_residual_relative"] < 2e-4, ds.attrs["energy_residual_relative"]

@@ -1,8 +1,10 @@
 """The spatial link's modal equations (lubelink.link.spatial) against closed forms and the planar model.
 
 References: the gyroscopic whirl of a link spinning about its own axis (characteristic quartic),
-the fixed-fixed bar (finite differences), the quasi-static axial stretch of a spinning link (closed
-form of ``E u1'' + rho W^2 u1 = rho (W^2 x - a1)``), and the planar model (lubelink.beam) for a
+the fixed-fixed and fixed-free bars (finite differences, closed forms), the quasi-static axial
+stretch of a spinning link (closed forms of ``E u1'' + rho W^2 u1 = rho (a1 - W^2 x)`` with either end
+condition at ``L``), the Galerkin projection of the frame's accelerations between the free-end axial
+modes and the bending sines (quadrature, written here), and the planar model (lubelink.beam) for a
 planar motion.
 """
 
@@ -16,19 +18,24 @@ from lubelink.link import spatial
 E, RHO, L = 207e9, 7650.0, 1.0
 
 
-def frequencies(N, b=0.01, h=0.01):
+def frequencies(N, b=0.01, h=0.01, end="fixed"):
     A = b * h
-    return spatial.frequencies(N, L, E, RHO, A, b * h**3 / 12, h * b**3 / 12), RHO * A * L / 2
+    return spatial.frequencies(N, L, E, RHO, A, b * h**3 / 12, h * b**3 / 12, end), RHO * A * L / 2
 
 
-def jacobian(N, W, w, al, a_O=(0.0, 0.0, 0.0), zeta=0.0, m=1.0):
+def axial_basis(N, end, b=0.01, h=0.01):
+    """The :class:`~lubelink.link.spatial.AxialBasis` of the end condition (None: fixed)."""
+    return None if end == "fixed" else spatial.free_axial_basis(N, L, RHO * b * h)
+
+
+def jacobian(N, W, w, al, a_O=(0.0, 0.0, 0.0), zeta=0.0, m=1.0, axial=None):
     """``(J, f0)``: the right-hand side is ``J y + f0`` (it is linear in the state)."""
     n = 6 * N
 
     def f(y):
         out = np.empty(n)
         spatial.accelerations(y, W, zeta, np.array(a_O, float), np.array(w, float), np.array(al, float),
-                              np.zeros(3 * N), m, L, out)
+                              np.zeros(3 * N), m, L, out, axial)
         return out
 
     f0 = f(np.zeros(n))
@@ -97,45 +104,123 @@ def test_asymmetric_section_unstable_between_the_bending_frequencies():
         assert (g > 1e-3) == inside, (Omega, g)
 
 
-def test_axial_modes_against_finite_difference_bar():
+def _fd_bar(N, n, end):
+    """The lowest ``N`` eigenvalues ``w^2`` of the bar ``E u'' = rho u_tt``, ``u(0) = 0``, on ``n`` intervals:
+    ``u(L) = 0`` (fixed) or ``u'(L) = 0`` (free: a mirror node beyond ``L``, second order)."""
+    hh = L / n
+    k = n - 1 if end == "fixed" else n
+    D2 = (np.diag(-2.0 * np.ones(k)) + np.diag(np.ones(k - 1), 1) + np.diag(np.ones(k - 1), -1)) / hh**2
+    if end == "free":
+        D2[-1, -2] = 2.0 / hh**2
+    return np.sort(np.linalg.eigvals(-E / RHO * D2).real)[:N]
+
+
+@pytest.mark.parametrize("end, first", [("fixed", np.pi), ("free", np.pi / 2)])
+def test_axial_modes_against_finite_difference_bar(end, first):
+    """The axial frequencies of the model's equations against the finite-difference bar (Richardson, 2 grids) and
+    the closed forms: fixed-fixed ``n pi / L sqrt(E / rho)`` (16.3 krad/s first), fixed-free
+    ``(2 n - 1) pi / (2 L) sqrt(E / rho)`` (8.2 krad/s)."""
     N = 4
-    W, _ = frequencies(N)
-    J, _ = jacobian(N, W, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    W, m = frequencies(N, end=end)
+    J, _ = jacobian(N, W, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), m=m, axial=axial_basis(N, end))
     s = np.linalg.eigvals(J)
     model = np.sort(np.abs(s.imag))[::2]  # conjugate pairs
-    # the bar E u'' = rho u_tt, u(0) = u(L) = 0, by finite differences (Richardson, 2 grids)
-    lam = []
-    for n in (400, 800):
-        hh = L / n
-        D2 = (np.diag(-2.0 * np.ones(n - 1)) + np.diag(np.ones(n - 2), 1) + np.diag(np.ones(n - 2), -1)) / hh**2
-        lam.append(np.sort(np.linalg.eigvalsh(-E / RHO * D2))[:N])
+    lam = [_fd_bar(N, n, end) for n in (400, 800)]
     fd = np.sqrt((4 * lam[1] - lam[0]) / 3)
     for k, wk in enumerate(fd):
         assert np.min(np.abs(model - wk)) < 1e-6 * wk
-    assert fd[0] == pytest.approx(np.pi / L * np.sqrt(E / RHO), rel=1e-6)  # 16.3 krad/s, 5.2 km/s bar
+    c = np.sqrt(E / RHO)  # 5.2 km/s
+    assert fd[0] == pytest.approx(first / L * c, rel=1e-6)
+    step = 2.0 if end == "free" else 1.0  # the next modes: (2n - 1) pi / 2 or n pi
+    np.testing.assert_allclose(W[:N], first / L * c * (1.0 + step * np.arange(N)), rtol=1e-14)
 
 
-def test_quasi_static_axial_stretch_of_a_spinning_link():
-    """Constant spin ``Omega`` about ``e3`` and ``a_O1``: equilibrium ``E u1'' + rho Omega^2 u1 =
-    rho (a1 - Omega^2 x)``, ``u1(0) = u1(L) = 0``, in closed form; converges with the modes."""
-    Omega, a1 = 400.0, 3.0e4
+def _stretch(x, Omega, a1, end):
+    """Closed form of ``E u1'' + rho Omega^2 u1 = rho (a1 - Omega^2 x)``, ``u1(0) = 0`` and ``u1(L) = 0`` (fixed) or
+    ``u1'(L) = 0`` (free): ``u1 = (a1 - Omega^2 x) / Omega^2 + C cos(k x) + D sin(k x)``,
+    ``k = Omega sqrt(rho / E)``."""
     k = Omega * np.sqrt(RHO / E)
-    x = np.linspace(0.0, L, 101)
-    up = lambda x: (a1 - Omega**2 * x) / Omega**2  # noqa: E731  (E/rho)/Omega^2 * rho/E * (...)
+    up = lambda x: (a1 - Omega**2 * x) / Omega**2  # noqa: E731
     C = -up(0.0)
-    D = -(up(L) + C * np.cos(k * L)) / np.sin(k * L)
-    exact = up(x) + C * np.cos(k * x) + D * np.sin(k * x)
+    if end == "fixed":
+        D = -(up(L) + C * np.cos(k * L)) / np.sin(k * L)
+    else:  # up' = -1: -1 - C k sin(k L) + D k cos(k L) = 0
+        D = (1.0 + C * k * np.sin(k * L)) / (k * np.cos(k * L))
+    return up(x) + C * np.cos(k * x) + D * np.sin(k * x)
+
+
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_quasi_static_axial_stretch_of_a_spinning_link(end):
+    """Constant spin ``Omega`` about ``e3`` and ``a_O1``: the equilibrium of the model's equations against the closed
+    form of each end condition (:func:`_stretch`); converges with the modes."""
+    Omega, a1 = 400.0, 3.0e4
+    x = np.linspace(0.0, L, 101)
+    exact = _stretch(x, Omega, a1, end)
     assert np.max(np.abs(exact)) > 1e-6  # micrometres of stretch
     errors = []
     for N in (4, 16, 64):
-        W, m = frequencies(N)
-        J, f0 = jacobian(N, W, (0.0, 0.0, Omega), (0.0, 0.0, 0.0), a_O=(a1, 0.0, 0.0))
+        W, m = frequencies(N, end=end)
+        J, f0 = jacobian(N, W, (0.0, 0.0, Omega), (0.0, 0.0, 0.0), a_O=(a1, 0.0, 0.0), m=m, axial=axial_basis(N, end))
         y = np.linalg.solve(J, -f0)
-        u1, u2, u3 = spatial.deflections(y, x, L)
+        u1, u2, u3 = spatial.deflections(y, x, L, end)
         assert np.max(np.abs(u2)) == 0.0 and np.max(np.abs(u3)) == 0.0
         errors.append(np.max(np.abs(u1 - exact)) / np.max(np.abs(exact)))
     assert errors[0] > errors[1] > errors[2]
     assert errors[2] < 1e-4
+
+
+@pytest.mark.parametrize("end, mid", [("fixed", 1.0 / 8.0), ("free", 3.0 / 8.0)])
+def test_quasi_static_stretch_under_a_uniform_axial_load(end, mid):
+    """No spin, ``a_O1 = a``: ``E u1'' = rho a``, ``u1(0) = 0``; at mid-length ``u1 = -rho a L^2 / (8 E)`` with
+    ``u1(L) = 0`` and ``-3 rho a L^2 / (8 E)`` with ``u1'(L) = 0``: the free end stretches three times as far (the
+    paper's rod under ``OA omega0^2 = 69 m/s^2``: 0.32 um against 0.96 um)."""
+    a = 0.07 * (10 * np.pi) ** 2
+    N = 64
+    W, m = frequencies(N, end=end)
+    J, f0 = jacobian(N, W, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), a_O=(a, 0.0, 0.0), m=m, axial=axial_basis(N, end))
+    u1 = spatial.deflections(np.linalg.solve(J, -f0), [0.5 * L], L, end)[0][0]
+    assert u1 == pytest.approx(-mid * RHO * a * L**2 / E, rel=1e-4)
+
+
+def test_free_end_couplings_are_the_galerkin_projection():
+    """The frame's accelerations and the rigid load with the free-end axial modes ``psi_m = sin(gamma_m x)``, against
+    the Galerkin projection assembled here by Gauss quadrature: a direction's rows are ``M_dd^-1 M_de`` times the
+    ``(d, e)`` entry of the frame's matrices (``[alpha x] + w w^T - |w|^2 I`` on displacements, ``2 [w x]`` on
+    velocities), ``M_de = int psi or s . psi or s``; the axial rigid load ``-(int psi (a1 + g1 x)) / (L / 2)``.
+    Both :func:`accelerations` (linear in the state: its columns) and :func:`oscillator_jacobian`."""
+    def cross(a):
+        return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+    N, zeta = 3, 0.01
+    w, al, a_O = np.array([0.7, -2.0, 5.0]), np.array([30.0, 4.0, -11.0]), np.array([40.0, -3.0, 7.0])
+    W, m = frequencies(N, end="free")
+    axial = axial_basis(N, "free")
+    xg, wg = np.polynomial.legendre.leggauss(200)
+    x, wq = 0.5 * L * (xg + 1.0), 0.5 * L * wg
+    psi = np.sin(np.outer((2 * np.arange(1, N + 1) - 1) * np.pi / (2 * L), x))
+    sin = np.sin(np.outer(np.arange(1, N + 1) * np.pi / L, x))
+    basis = [psi, sin, sin]
+    Mb = [[(bd * wq) @ be.T for be in basis] for bd in basis]
+    Cx = cross(al) + np.outer(w, w) - w @ w * np.eye(3)
+    Cv = 2.0 * cross(w)
+    Jq_ref, Jv_ref = -np.diag(W**2), -np.diag(2.0 * zeta * W)
+    for d in range(3):
+        for e in range(3):
+            P = np.linalg.solve(Mb[d][d], Mb[d][e])
+            Jq_ref[d * N:(d + 1) * N, e * N:(e + 1) * N] -= Cx[d, e] * P
+            Jv_ref[d * N:(d + 1) * N, e * N:(e + 1) * N] -= Cv[d, e] * P
+    assert np.abs(Jq_ref[:N, N:2 * N]).max() > 0.1 * np.abs(Cx[0, 1])  # a full block: the bases differ
+    J, f0 = jacobian(N, W, w, al, a_O=a_O, zeta=zeta, m=m, axial=axial)
+    M = 3 * N
+    np.testing.assert_allclose(J[M:, :M], Jq_ref, rtol=0, atol=1e-12 * np.abs(Jq_ref).max())
+    np.testing.assert_allclose(J[M:, M:], Jv_ref, rtol=0, atol=1e-12 * np.abs(Jv_ref).max())
+    Jq, Jv = np.zeros((M, M)), np.zeros((M, M))
+    spatial.oscillator_jacobian(W, zeta, tuple(w), tuple(al), Jq, Jv, axial)
+    np.testing.assert_allclose(Jq, Jq_ref, rtol=0, atol=1e-12 * np.abs(Jq_ref).max())
+    np.testing.assert_allclose(Jv, Jv_ref, rtol=0, atol=1e-12 * np.abs(Jv_ref).max())
+    g1 = -(w[1] ** 2 + w[2] ** 2)
+    load = -(psi * wq) @ (a_O[0] + g1 * x) / (L / 2)
+    np.testing.assert_allclose(f0[M:M + N], load, rtol=1e-12)
 
 
 def _rssp(t, axis=(0.25, 0.2, 1.0), ref=(1.0, 0.0, 0.0), P=(0.0, 0.0, 0.05), d=(1.0, 0.0, 0.0), r=0.07,

@@ -83,12 +83,13 @@ def test_sampled_builtin_kinematics_converge_at_fourth_order(derived):
     assert max(errors[0]) < 2e-6
 
 
-@pytest.mark.parametrize("given", ["callables", "samples"])
-def test_constant_spin_and_acceleration_against_the_closed_forms(given):
+@pytest.mark.parametrize("given, end", [("callables", "fixed"), ("samples", "fixed"), ("samples", "free")])
+def test_constant_spin_and_acceleration_against_the_closed_forms(given, end):
     """Spin ``Omega`` about ``e3``, constant ``A_O``, gravity resolved through a tilted constant frame, heavy
     damping: after the transient the link rests in the quasi-static shape of the closed forms
 
-    * ``E u1'' + rho Omega^2 u1 = rho (A1 - Omega^2 x)``, ``u1(0) = u1(L) = 0`` (fixed-fixed bar);
+    * ``E u1'' + rho Omega^2 u1 = rho (A1 - Omega^2 x)``, ``u1(0) = 0`` and ``u1(L) = 0`` (fixed-fixed bar) or
+      ``u1'(L) = 0`` (fixed-free, ``beam.axial_end = "free"``: its modes ``sin((2 n - 1) pi x / (2 L))``);
     * ``E I u2'''' - rho A Omega^2 u2 = -rho A A2``, pinned (the spin softens the in-plane bending);
     * ``E I u3'''' = -rho A A3``, pinned (no spin across ``e3``: the uniformly loaded beam),
 
@@ -106,7 +107,7 @@ def test_constant_spin_and_acceleration_against_the_closed_forms(given):
     N = 3
     cfg = resolve("paper-dry", {"beam.model": "spatial", "beam.modes": N, "beam.damping_ratio": 0.7,
                                 "mechanism.gravity": list(gravity), "solver.t_end": 0.15, "solver.rtol": 1e-9,
-                                "solver.atol": 1e-13, "output.x_points": 11})
+                                "solver.atol": 1e-13, "output.x_points": 11, "beam.axial_end": end})
     if given == "callables":
         motion = SpatialPrescribedMotion(A_O=A_O, omega=lambda t: (0.0, 0.0, Omega), alpha=(0.0, 0.0, 0.0),
                                          x_star=0.5, V_r=lambda t: 0.0, e1=e1, e2=e2)
@@ -125,7 +126,10 @@ def test_constant_spin_and_acceleration_against_the_closed_forms(given):
     k = Omega * np.sqrt(rho / E)
     up = lambda x: (A1 - Omega**2 * x) / Omega**2  # noqa: E731
     C = -up(0.0)
-    D = -(up(L) + C * np.cos(k * L)) / np.sin(k * L)
+    if end == "fixed":
+        D = -(up(L) + C * np.cos(k * L)) / np.sin(k * L)
+    else:  # u1'(L) = up' - C k sin(k L) + D k cos(k L) = 0, up' = -1
+        D = (1.0 + C * k * np.sin(k * L)) / (k * np.cos(k * L))
     u1 = lambda x: up(x) + C * np.cos(k * x) + D * np.sin(k * x)  # noqa: E731
     kap = (rho_A * Omega**2 / EI) ** 0.25
     u2p = A2 / Omega**2
@@ -136,9 +140,10 @@ def test_constant_spin_and_acceleration_against_the_closed_forms(given):
     nodes, weights = np.polynomial.legendre.leggauss(64)
     x, w = 0.5 * L * (nodes + 1.0), 0.5 * L * weights
     S = np.sin(np.outer(np.arange(1, N + 1) * np.pi / L, x))
+    S1 = S if end == "fixed" else np.sin(np.outer((2 * np.arange(1, N + 1) - 1) * np.pi / (2 * L), x))
     y = result.y[-1]
     for direction, u in enumerate((u1, u2, u3)):
-        exact = (2.0 / L) * S @ (w * u(x))
+        exact = (2.0 / L) * (S1 if direction == 0 else S) @ (w * u(x))
         q = y[direction * N:(direction + 1) * N]
         assert np.abs(q - exact).max() < 1e-6 * np.abs(exact).max(), (direction, q, exact)
     assert abs(u2(0.5 * L)) > 1.3 * abs(5 * rho_A * A2 * L**4 / (384 * EI))  # the spin softens u2 by 40 %

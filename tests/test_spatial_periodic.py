@@ -42,11 +42,13 @@ def blocks(y, N):
 def test_planar_case_orbit_is_the_planar_orbit_with_u3_zero(scenario):
     """Planar motion: u2 of the spatial orbit equals the planar model's orbit within the axial coupling, u3 = 0.
 
-    The ``u2`` equation of the spatial model is the planar one plus ``-(alpha q1 + 2 omega q1_t)``
-    (docs/spatial.md). Its effect on ``q2`` is bounded by the quasi-static response to the largest
-    such load, ``max |alpha q1 + 2 omega q1_t| / (W^2 - max omega^2)``, times a dynamic factor of 2
-    (the harmonics of the crank, 31.4 and 62.8 rad/s, lie well below ``W = 148 rad/s``: factors 1.05
-    and 1.2). Measured: 2.1 nm (dry) and 2.2 nm (wedge film) on a 2.1 mm peak.
+    The ``u2`` equation of the spatial model is the planar one plus ``-c (alpha q1 + 2 omega q1_t)``
+    (docs/spatial.md; ``c = 8 / (3 pi)`` projects the free axial end's mode on the sine, 1 for the fixed
+    end). Its effect on ``q2`` is bounded by the quasi-static response to the largest such load,
+    ``max |alpha q1 + 2 omega q1_t| / (W^2 - max omega^2)``, times a dynamic factor of 2 (the harmonics of
+    the crank, 31.4 and 62.8 rad/s, lie well below ``W = 148 rad/s``: factors 1.05 and 1.2). Measured with
+    the free end (the default): 7.2 nm (dry) and 7.6 nm (wedge film) on a 2.1 mm peak (2.1 and 2.2 nm with the
+    fixed end, whose ``u1`` is a third as large).
     """
     planar = find_periodic(resolve(scenario, ONE))
     sp = find_periodic(resolve(scenario, {**ONE, "beam.model": "spatial"}))
@@ -65,7 +67,7 @@ def test_planar_case_orbit_is_the_planar_orbit_with_u3_zero(scenario):
     bound = 2.0 * coupling / (W**2 - np.max(omega**2))
     diff = np.max(np.abs(q2 - run_pl.y[:, :N]))
     assert 0.0 < diff < bound, (diff, bound)
-    assert diff < 1e-6 * np.max(np.abs(q2)) * 2  # 2.1 nm on 2.1 mm measured
+    assert diff < 5e-6 * np.max(np.abs(q2))  # 7.2 nm on 2.1 mm measured
     # the multipliers: the planar pair (to the coupling's and the differences' accuracy) ...
     mu = sp.multipliers
     for m_pl in planar.multipliers:
@@ -90,15 +92,20 @@ def _ltp_monodromy(config, period):
     """Monodromy of the dry link's homogeneous equations (one mode), from docs/spatial.md by solve_ivp.
 
     ``Q_tt + 2 w x Q_t + alpha x Q + w x (w x Q) + diag(W^2) Q + 2 zeta diag(W) Q_t = 0`` with
-    ``w``, ``alpha`` of the RSSP slider-crank, written with cross-product matrices.
+    ``w``, ``alpha`` of the RSSP slider-crank, written with cross-product matrices. With a free axial end
+    the axial mode ``sin(pi x / (2 L))`` and the bending sine ``sin(pi x / L)`` differ: the entries between
+    the axial and the bending directions carry the projection ``(2/L) int_0^L sin(pi x / (2 L)) sin(pi x / L) dx
+    = 8 / (3 pi)``.
     """
     from scipy.integrate import solve_ivp
 
     m, b = config.mechanism, config.beam
     g = geometry(m)
     W = spatial.frequencies(1, m.rod_length, b.youngs_modulus, b.density, b.area, b.second_moment,
-                            b.height * b.width**3 / 12)
+                            b.height * b.width**3 / 12, b.axial_end)
     zeta = b.damping_ratio
+    c = 1.0 if b.axial_end == "fixed" else 8.0 / (3.0 * np.pi)
+    P = np.array([[1.0, c, c], [c, 1.0, 1.0], [c, 1.0, 1.0]])
 
     def cross(a):
         return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
@@ -107,8 +114,8 @@ def _ltp_monodromy(config, period):
         _, w, al, *_ = spatial.slider_crank_rssp(t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance,
                                                  g.crank_axis, g.crank_ref, g.slider_point, g.slider_dir)
         Wx = cross(w)
-        K = -cross(al) - Wx @ Wx - np.diag(W**2)
-        C = -2.0 * Wx - 2.0 * zeta * np.diag(W)
+        K = -P * (cross(al) + Wx @ Wx) - np.diag(W**2)
+        C = -2.0 * P * Wx - 2.0 * zeta * np.diag(W)
         A = np.block([[np.zeros((3, 3)), np.eye(3)], [K, C]])
         return (A @ z.reshape(6, 6)).ravel()
 

@@ -2,11 +2,13 @@
 
 References, independent of the sine-mode Galerkin code:
 
-* finite-difference eigen solutions of the tapered bar ``-(E A u')' = lambda rho A u`` (fixed ends)
-  and of the tapered beams ``(E I w'')'' = lambda rho A w`` with ``I_z`` and ``I_y`` (pinned ends);
-* the equations in sine coordinates solved with the mass matrix (no eigenbasis), their matrices
-  by a quadrature of this file, their frame terms by NumPy cross products: the right-hand side at
-  a general 3-D motion, and a whole run under the spatial slider-crank by SciPy;
+* finite-difference eigen solutions of the tapered bar ``-(E A u')' = lambda rho A u`` (fixed ends, or
+  fixed at 0 and free at L) and of the tapered beams ``(E I w'')'' = lambda rho A w`` with ``I_z`` and
+  ``I_y`` (pinned ends);
+* the equations in the coordinates of the trial functions (sines; a free axial end: ``sin((2n - 1) pi
+  x / (2 L))`` for ``u1``) solved with the block mass matrix (no eigenbasis), their matrices by a
+  quadrature of this file, their frame terms by NumPy cross products: the right-hand side at a
+  general 3-D motion, and a whole run under the spatial slider-crank by SciPy;
 * the rotating-frame whirl of a square-section taper spinning about its axis, ``w_n +- Omega``;
 * the planar model with the same taper (planar motion), and the uniform sine-mode path.
 """
@@ -34,15 +36,21 @@ def tapered(rb=0.6, rh=1.4, b=B, h=H):
 
 
 # --- independent references --------------------------------------------------------------------------------
-def fd_bar(sec, n):
-    """Lowest eigenvalues ``w^2`` [rad^2/s^2] of ``-(E A u')' = w^2 rho A u``, ``u(0) = u(L) = 0``, on ``n``
-    intervals (conservative three-point scheme, ``E A`` at the midpoints: second order)."""
+def fd_bar(sec, n, end="fixed"):
+    """Lowest eigenvalues ``w^2`` [rad^2/s^2] of ``-(E A u')' = w^2 rho A u``, ``u(0) = 0`` and ``u(L) = 0`` (fixed) or
+    ``E A u'(L) = 0`` (free), on ``n`` intervals (conservative three-point scheme, ``E A`` at the midpoints; the
+    free end's node carries half a cell: second order)."""
     h = L / n
     x = np.linspace(0.0, L, n + 1)
     A = sec.profile("area")
     ea = E * A(0.5 * (x[:-1] + x[1:]))  # at the n midpoints
-    K = (np.diag(ea[:-1] + ea[1:]) - np.diag(ea[1:-1], 1) - np.diag(ea[1:-1], -1)) / h**2
-    s = np.sqrt(RHO * A(x[1:-1]))
+    if end == "fixed":
+        K = (np.diag(ea[:-1] + ea[1:]) - np.diag(ea[1:-1], 1) - np.diag(ea[1:-1], -1)) / h**2
+        mass = RHO * A(x[1:-1])
+    else:  # nodes 1..n
+        K = (np.diag(np.r_[ea[:-1] + ea[1:], ea[-1]]) - np.diag(ea[1:], 1) - np.diag(ea[1:], -1)) / h**2
+        mass = RHO * A(x[1:]) * np.r_[np.ones(n - 1), 0.5]
+    s = np.sqrt(mass)
     return np.linalg.eigvalsh(K / s[:, None] / s[None, :])
 
 
@@ -67,41 +75,55 @@ def fd_reference(fd, count):
     return np.sqrt((16.0 * r1[1] - r1[0]) / 15.0)
 
 
-def sine_matrices(sec, N):
-    """``(M, [K1, K2, K3], r0, r1)`` of the sine modes by 400-point Gauss-Legendre on ``[0, L]`` (not the
-    library's composite rule)."""
+def trial_matrices(sec, N, end="fixed"):
+    """``(M, [K1, K2, K3], r0, r1)`` of the trial functions by 400-point Gauss-Legendre on ``[0, L]`` (not the
+    library's composite rule): the sines ``s_n = sin(n pi x / L)`` for the bending directions and, for the axial
+    one, the sines (``end`` fixed) or ``psi_n = sin((2 n - 1) pi x / (2 L))`` (free). ``M[d][e]`` the mass blocks
+    ``int rho A phi_d phi_e`` between the directions' functions; ``r0[d]``, ``r1[d]`` ``int rho A phi_d``,
+    ``int rho A x phi_d``."""
     s, wq = np.polynomial.legendre.leggauss(400)
     x, wq = 0.5 * L * (s + 1.0), 0.5 * L * wq
     beta = np.arange(1, N + 1) * np.pi / L
-    S, C = np.sin(np.outer(x, beta)), np.cos(np.outer(x, beta))
+    gamma = beta if end == "fixed" else (2 * np.arange(1, N + 1) - 1) * np.pi / (2 * L)
+    S, C = np.sin(np.outer(x, beta)), np.cos(np.outer(x, gamma))
+    P = np.sin(np.outer(x, gamma))  # the axial functions
     A, Iz, Iy = (sec.profile(k)(x) for k in ("area", "second_moment", "second_moment_y"))
 
-    def gram(U, weight):
-        return U.T @ ((weight * wq)[:, None] * U)
+    def gram(U, weight, V=None):
+        return U.T @ ((weight * wq)[:, None] * (U if V is None else V))
 
-    M = gram(S, RHO * A)
-    Ks = [gram(C * beta, E * A), gram(S * beta**2, E * Iz), gram(S * beta**2, E * Iy)]
-    return M, Ks, S.T @ (RHO * A * wq), S.T @ (RHO * A * x * wq)
+    funcs = [P, S, S]
+    M = [[gram(funcs[d], RHO * A, funcs[e]) for e in range(3)] for d in range(3)]
+    Ks = [gram(C * gamma, E * A), gram(S * beta**2, E * Iz), gram(S * beta**2, E * Iy)]
+    return (M, Ks, np.array([U.T @ (RHO * A * wq) for U in funcs]),
+            np.array([U.T @ (RHO * A * x * wq) for U in funcs]))
 
 
 class MassMatrixForm:
-    """``Q_tt`` ``(3, N)`` of ``M [Q_tt + 2 w x Q_t + al x Q + w x (w x Q)] + K_d Q_d + C_d Q_d_t = F_d - r0 a_d
-    - r1 g_d`` in sine coordinates (``g = al x e1 + w x (w x e1)``), solved with ``M`` (its inverse, once)."""
+    """``Q_tt`` ``(3, N)`` of ``sum_e M_de [delta_de Q_e_tt + (2 w x Q_t + al x Q + w x (w x Q))_(d, e)] + K_d Q_d
+    + C_d Q_d_t = F_d - r0_d a_d - r1_d g_d`` in the coordinates of the trial functions (``g = al x e1 + w x (w x
+    e1)``; the matrices of :func:`trial_matrices`), solved with ``M_dd`` (its inverse, once)."""
 
     def __init__(self, mats, damping=None):
         M, Ks, r0, r1 = mats
-        self.Mi = np.linalg.inv(M)
-        self.MiK = np.array([self.Mi @ K for K in Ks])
-        self.MiC = None if damping is None else np.array([self.Mi @ C for C in damping])
-        self.Mi_r0, self.Mi_r1 = self.Mi @ r0, self.Mi @ r1
+        self.Mi = [np.linalg.inv(M[d][d]) for d in range(3)]
+        self.P = [[self.Mi[d] @ M[d][e] for e in range(3)] for d in range(3)]
+        self.MiK = [self.Mi[d] @ Ks[d] for d in range(3)]
+        self.MiC = None if damping is None else [self.Mi[d] @ damping[d] for d in range(3)]
+        self.Mi_r0 = [self.Mi[d] @ r0[d] for d in range(3)]
+        self.Mi_r1 = [self.Mi[d] @ r1[d] for d in range(3)]
 
     def __call__(self, Q, Q_t, a_O, w, al, F):
         Wx, Ax = skew(w), skew(al)  # Wx @ v = w x v
-        g = (Ax + Wx @ Wx)[:, 0]  # al x e1 + w x (w x e1)
-        out = (F @ self.Mi.T - np.outer(a_O, self.Mi_r0) - np.outer(g, self.Mi_r1) - 2.0 * Wx @ Q_t
-               - (Ax + Wx @ Wx) @ Q)
+        G = Ax + Wx @ Wx
+        g = G[:, 0]  # al x e1 + w x (w x e1)
+        out = np.empty((3, Q.shape[1]))
         for d in range(3):
-            out[d] -= self.MiK[d] @ Q[d] + (0.0 if self.MiC is None else self.MiC[d] @ Q_t[d])
+            out[d] = self.Mi[d] @ F[d] - a_O[d] * self.Mi_r0[d] - g[d] * self.Mi_r1[d] - self.MiK[d] @ Q[d]
+            if self.MiC is not None:
+                out[d] -= self.MiC[d] @ Q_t[d]
+            for e in range(3):
+                out[d] -= self.P[d][e] @ (2.0 * Wx[d, e] * Q_t[e] + G[d, e] * Q[e])
         return out
 
 
@@ -111,16 +133,18 @@ def skew(v):
 
 
 # --- the matrices and frequencies ----------------------------------------------------------------------------
-def test_tapered_frequencies_of_the_three_directions_against_finite_differences():
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_tapered_frequencies_of_the_three_directions_against_finite_differences(end):
     """Width 0.6 and height 1.4 times at x = L: A(x), I_z(x) = B h^3/12, I_y(x) = h B^3/12 all differ. The
-    Galerkin eigenvalues bound the FD references from above (Rayleigh-Ritz) and converge with the modes."""
+    Galerkin eigenvalues bound the FD references from above (Rayleigh-Ritz) and converge with the modes; the
+    axial ones with either end condition at L."""
     sec = tapered()
-    refs = [fd_reference(lambda n: fd_bar(sec, n), 3), fd_reference(lambda n: fd_beam(sec, "second_moment", n), 3),
+    refs = [fd_reference(lambda n: fd_bar(sec, n, end), 3), fd_reference(lambda n: fd_beam(sec, "second_moment", n), 3),
             fd_reference(lambda n: fd_beam(sec, "second_moment_y", n), 3)]
     assert abs(refs[1][0] / refs[2][0] - 1.0) > 0.3  # I_z and I_y differ
     errors = []
     for N in (3, 6, 12, 24):
-        W = spatial_section.spatial_galerkin(sec, E, RHO, N, L)[0].reshape(3, N)[:, :3]
+        W = spatial_section.spatial_galerkin(sec, E, RHO, N, L, axial_end=end)[0].reshape(3, N)[:, :3]
         for d in range(3):
             assert np.all(W[d] >= refs[d] * (1 - 1e-9)), (N, d)
         errors.append([np.max(np.abs(W[d] / refs[d] - 1.0)) for d in range(3)])
@@ -131,44 +155,54 @@ def test_tapered_frequencies_of_the_three_directions_against_finite_differences(
     assert np.all(errors[0] > 1e2 * errors[-1])
     # the taper matters: the uniform link's frequencies are off by 0.9 % (axial: A(x) enters through its
     # relative variation only), 16 % and 27 %
-    uniform = spatial.frequencies(3, L, E, RHO, B * H, B * H**3 / 12, H * B**3 / 12).reshape(3, 3)
+    uniform = spatial.frequencies(3, L, E, RHO, B * H, B * H**3 / 12, H * B**3 / 12, end).reshape(3, 3)
     assert np.all(np.max(np.abs(uniform / np.array(refs) - 1.0), axis=1) > [5e-3, 0.1, 0.2])
 
 
-def test_model_frequencies_and_results():
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_model_frequencies_and_results(end):
     """The configuration's taper reaches the model: ``state_frequencies`` are the three directions'
-    Galerkin eigenvalues, ``omega_n`` the in-plane ones; the eigenbases are M-orthonormal."""
+    Galerkin eigenvalues, ``omega_n`` the in-plane ones; the eigenbases are M-orthonormal (the axial one in the
+    mass matrix of its end's functions), the free end's couplings the projections ``M_dd^-1 M_de``."""
     N = 4
-    model = build_model(resolve("spatial-slider-crank", {**TAPER, "beam.modes": N, "solver.backend": "numpy"}))
-    W, m_ref, g = spatial_section.spatial_galerkin(tapered(), E, RHO, N, L)
+    model = build_model(resolve("spatial-slider-crank", {**TAPER, "beam.modes": N, "solver.backend": "numpy",
+                                                         "beam.axial_end": end}))
+    W, m_ref, g, axial = spatial_section.spatial_galerkin(tapered(), E, RHO, N, L, axial_end=end)
     np.testing.assert_allclose(model.state_frequencies, W, rtol=1e-14)
     np.testing.assert_allclose(model.omega_n, W[N:2 * N], rtol=1e-14)
     assert not model.uniform and model.params.galerkin is not None
-    M, Ks, r0, r1 = sine_matrices(tapered(), N)
+    assert (model.params.spatial.axial is None) == (axial is None) == (end == "fixed")
+    M, Ks, r0, r1 = trial_matrices(tapered(), N, end)
     a, b = 0.6 - 1.0, 1.4 - 1.0  # A = B H (1 + a x/L)(1 + b x/L)
     assert m_ref == pytest.approx(0.5 * RHO * B * H * L * (1 + (a + b) / 2 + a * b / 3), rel=1e-13)
     for d in range(3):
         phi = g.phi[d]
-        np.testing.assert_allclose(phi.T @ M @ phi, m_ref * np.eye(N), atol=1e-12 * m_ref)
+        np.testing.assert_allclose(phi.T @ M[d][d] @ phi, m_ref * np.eye(N), atol=1e-12 * m_ref)
         np.testing.assert_allclose(phi.T @ Ks[d] @ phi, m_ref * np.diag(W[d * N:(d + 1) * N] ** 2),
                                    atol=1e-11 * m_ref * W[(d + 1) * N - 1] ** 2)
         np.testing.assert_allclose(g.phi_inv[d] @ phi, np.eye(N), atol=1e-12)
-    np.testing.assert_allclose(g.r0, r0, rtol=1e-12)
-    np.testing.assert_allclose(g.r1, r1, rtol=1e-12)
+    np.testing.assert_allclose(g.r0, r0[1], rtol=1e-12)
+    np.testing.assert_allclose(g.r1, r1[1], rtol=1e-12)
+    if axial is not None:
+        np.testing.assert_allclose(axial.rigid[0], r0[0], rtol=0, atol=1e-12 * np.abs(r0[0]).max())
+        np.testing.assert_allclose(axial.rigid[1], r1[0], rtol=0, atol=1e-12 * np.abs(r1[0]).max())
+        np.testing.assert_allclose(axial.projection[0], np.linalg.solve(M[0][0], M[0][1]), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(axial.projection[1], np.linalg.solve(M[1][1], M[1][0]), rtol=0, atol=1e-12)
 
 
 # --- the right-hand side -----------------------------------------------------------------------------------------
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_eigen_right_hand_side_equals_the_mass_matrix_form(seed):
+@pytest.mark.parametrize("seed, end", [(0, "fixed"), (1, "fixed"), (2, "fixed"), (0, "free"), (1, "free")])
+def test_eigen_right_hand_side_equals_the_mass_matrix_form(seed, end):
     """At a general motion (all components of w, alpha, A_O), forces on all three directions and damping:
-    the eigen-coordinate accelerations, taken back to sine coordinates, solve the sine-coordinate equations
-    with the mass matrix (the cross-direction blocks Phi_d^T M Phi_j included)."""
+    the eigen-coordinate accelerations, taken back to the trial functions' coordinates, solve their equations
+    with the block mass matrix (the cross-direction blocks Phi_d^T M_dj Phi_j included; a free axial end's
+    functions differ from the bending sines, so its blocks are full)."""
     N, zeta = 5, 0.03
     sec = tapered(0.7, 1.3)
-    W, m_ref, g = spatial_section.spatial_galerkin(sec, E, RHO, N, L)
-    mats = sine_matrices(sec, N)
-    # modal damping of each eigenmode: C_d = M Phi_d diag(2 zeta W_d) Phi_d^-1
-    damping = [mats[0] @ g.phi[d] @ np.diag(2 * zeta * W[d * N:(d + 1) * N]) @ g.phi_inv[d] for d in range(3)]
+    W, m_ref, g, axial = spatial_section.spatial_galerkin(sec, E, RHO, N, L, axial_end=end)
+    mats = trial_matrices(sec, N, end)
+    # modal damping of each eigenmode: C_d = M_dd Phi_d diag(2 zeta W_d) Phi_d^-1
+    damping = [mats[0][d][d] @ g.phi[d] @ np.diag(2 * zeta * W[d * N:(d + 1) * N]) @ g.phi_inv[d] for d in range(3)]
     rng = np.random.default_rng(seed)
     scale = np.array([[1e-7], [1e-3], [1e-3]]) / np.arange(1, N + 1) ** 2
     Q, Q_t = rng.uniform(-1, 1, (3, N)) * scale, rng.uniform(-1, 1, (3, N)) * scale * 500
@@ -178,12 +212,13 @@ def test_eigen_right_hand_side_equals_the_mass_matrix_form(seed):
     y = spatial_section.state(g, yq)
     np.testing.assert_allclose(spatial_section.physical(g, y), yq, rtol=1e-12, atol=1e-14 * np.abs(yq).max())
     out = np.empty(6 * N)
-    spatial_section.eigen_accelerations(g, y, yq, W, zeta, tuple(a_O), tuple(w), tuple(al), F.ravel(), m_ref, out)
+    spatial_section.eigen_accelerations(g, y, yq, W, zeta, tuple(a_O), tuple(w), tuple(al), F.ravel(), m_ref, out,
+                                        axial)
     got = spatial_section.physical(g, out)
     np.testing.assert_allclose(got[:3 * N], Q_t.ravel(), rtol=1e-12, atol=1e-14 * np.abs(Q_t).max())
     ref = MassMatrixForm(mats, damping)(Q, Q_t, a_O, w, al, F)
     for d in range(3):
-        terms = np.abs(np.linalg.solve(mats[0], mats[1][d] @ Q[d])).max() + np.abs(ref[d]).max()
+        terms = np.abs(np.linalg.solve(mats[0][d][d], mats[1][d] @ Q[d])).max() + np.abs(ref[d]).max()
         np.testing.assert_allclose(got[3 * N + d * N:3 * N + (d + 1) * N], ref[d], rtol=0, atol=1e-12 * terms)  # 4e-14
 
 
@@ -193,7 +228,7 @@ def test_square_taper_spinning_about_its_axis_whirls_at_w_n_plus_minus_omega():
     Galerkin ``w_n``; the axial direction keeps its own (no centrifugal term along the spin axis)."""
     N = 4
     sec = tapered(0.6, 0.6)
-    W, m_ref, g = spatial_section.spatial_galerkin(sec, E, RHO, N, L)
+    W, m_ref, g, _ = spatial_section.spatial_galerkin(sec, E, RHO, N, L)
     np.testing.assert_allclose(W[N:2 * N], W[2 * N:], rtol=1e-13)
 
     def f(y, Omega):
@@ -210,10 +245,14 @@ def test_square_taper_spinning_about_its_axis_whirls_at_w_n_plus_minus_omega():
         np.testing.assert_allclose(np.sort(np.abs(s.imag)), np.sort(np.repeat(expected, 2)), rtol=1e-11)  # 3e-15
 
 
-def test_uniform_section_through_the_eigen_path_equals_the_uniform_path():
-    """A constant Section goes through the eigenbases; it agrees with the uniform sine-mode kernels to round-off."""
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_uniform_section_through_the_eigen_path_equals_the_uniform_path(end):
+    """A constant Section goes through the eigenbases; it agrees with the uniform sine-mode kernels to round-off
+    (with a free axial end: the quadrature's couplings and rigid loads against the closed forms of
+    :func:`lubelink.link.spatial.free_axial_basis`)."""
     N = 3
-    cfg = resolve("spatial-slider-crank", {"beam.modes": N, "solver.backend": "numpy", "film.clearance": 5e-3})
+    cfg = resolve("spatial-slider-crank", {"beam.modes": N, "solver.backend": "numpy", "film.clearance": 5e-3,
+                                           "beam.axial_end": end})
     const = section.Section(area=lambda x: B * H + 0 * x, second_moment=lambda x: B * H**3 / 12 + 0 * x,
                             second_moment_y=lambda x: H * B**3 / 12 + 0 * x)
     m0, m1 = build_model(cfg), build_model(cfg, section=const)
@@ -251,14 +290,14 @@ def test_planar_case_with_a_taper_matches_the_planar_model(scenario):
 
 
 def _scipy_mass_matrix_run(cfg, sec, t_eval):
-    """The spatial slider-crank, dry, in sine coordinates with the mass matrix (:class:`MassMatrixForm`)
+    """The spatial slider-crank, dry, in the trial functions' coordinates with the mass matrix (:class:`MassMatrixForm`)
     under :func:`lubelink.link.spatial.slider_crank_rssp`, by SciPy's DOP853."""
     from scipy.integrate import solve_ivp
 
     from lubelink.link.spatial_motion import geometry
 
     N, m = cfg.beam.modes, cfg.mechanism
-    form = MassMatrixForm(sine_matrices(sec, N))
+    form = MassMatrixForm(trial_matrices(sec, N, cfg.beam.axial_end))
     geo = geometry(m)
     F = np.zeros((3, N))
 
@@ -272,16 +311,17 @@ def _scipy_mass_matrix_run(cfg, sec, t_eval):
                      atol=1e-15).y.T
 
 
-def test_tapered_spatial_slider_crank_against_the_mass_matrix_form():
+@pytest.mark.parametrize("end", ["fixed", "free"])
+def test_tapered_spatial_slider_crank_against_the_mass_matrix_form(end):
     """The whole run (eigen-coordinate state, exponential integrator exact on the 3N frequencies) against SciPy on
-    the sine-coordinate equations with the mass matrix; both bending directions and the axial one."""
-    over = {**TAPER, "film.model": "none", "solver.t_end": 0.05, **TIGHT}
+    the trial functions' equations with the mass matrix; both bending directions and the axial one."""
+    over = {**TAPER, "film.model": "none", "solver.t_end": 0.05, "beam.axial_end": end, **TIGHT}
     ds = lubelink.simulate("spatial-slider-crank", set=over)
     assert ds.attrs["status"] == "complete" and ds.attrs["solver_method"] == "exponential"
     cfg = resolve("spatial-slider-crank", over)
     ref = _scipy_mass_matrix_run(cfg, tapered(), ds.time.values[1:])
     for k, name in enumerate(("u1", "u2", "u3")):
-        u_ref = spatial.deflections(ref, [0.5], L)[k][:, 0]
+        u_ref = spatial.deflections(ref, [0.5], L, end)[k][:, 0]
         u = ds[name].sel(x=0.5, method="nearest").values[1:]
         peak = np.max(np.abs(u_ref))
         assert peak > (1e-7 if name == "u1" else 1e-4)
@@ -330,7 +370,8 @@ def test_the_command_line_runs_a_tapered_spatial_link_and_refuses_a_bad_ratio(tm
     ds = lubelink.load(out)
     assert ds.attrs["status"] == "complete" and np.max(np.abs(ds.u3_mid.values)) > 0.0
     np.testing.assert_allclose(ds.omega_spatial.values.ravel(),
-                               spatial_section.spatial_galerkin(tapered(), E, RHO, 3, L)[0], rtol=1e-13)
+                               spatial_section.spatial_galerkin(tapered(), E, RHO, 3, L, axial_end="free")[0],
+                               rtol=1e-13)  # the scenario's (default) free axial end
     bad = subprocess.run([sys.executable, "-m", "lubelink", "run", "--scenario", "spatial-slider-crank", "--set",
                           "beam.height_ratio=0.001", "-o", str(tmp_path / "x.nc")], capture_output=True, text=True,
                          timeout=300)

@@ -9,7 +9,7 @@ each a decoupled oscillator of frequency ``W_i``; for the spatial link, of the t
 
 and the modal equations make its rate the sum of the powers of the loads on the link, each
 ``sum_n q_dot_n F_n`` with ``q_dot`` the sine-mode velocities and ``F`` the load's sine-mode
-forces [N]:
+forces [N] (the spatial link's axial block with a free end: its own modes' velocities and forces):
 
 * the rigid motion's inertial loads and gravity (:func:`lubelink.beam.rigid_load`; the spatial
   link's :func:`lubelink.link.spatial.rigid_loads`), and the link frame's Euler, centrifugal and
@@ -127,30 +127,33 @@ def powers_given(kin, yq, p, out):
 
 
 @jitable
-def _spatial_rigid_power(g, y, yq, A, w, al, p):
+def _spatial_rigid_power(g, axial, y, yq, A, w, al, p):
     """The power [W] of the rigid motion's loads and the frame's accelerations of the deflection on the spatial
     link (:func:`lubelink.link.spatial.accelerations`; of a variable section, with the eigenbases ``g``:
-    :func:`lubelink.link.spatial_section.eigen_accelerations`)."""
+    :func:`lubelink.link.spatial_section.eigen_accelerations`; ``axial`` the free axial end's couplings, None for
+    the fixed end)."""
     N = p.basis.modes
     M = 3 * N
     m = p.basis.modal_mass
     power = 0.0
     if g is None:
         for n in range(N):
-            r = spatial.rigid_loads(A, w, al, n + 1, p.basis.rod_length)
-            c = spatial.frame_terms(w, al, (yq[n], yq[N + n], yq[2 * N + n]),
-                                    (yq[M + n], yq[M + N + n], yq[M + 2 * N + n]))
-            for d in range(3):
-                power += yq[M + d * N + n] * (r[d] - c[d])
+            r1, r2, r3 = spatial.rigid_loads(A, w, al, n + 1, p.basis.rod_length)
+            if axial is None:
+                c1, c2, c3 = spatial.frame_terms(w, al, (yq[n], yq[N + n], yq[2 * N + n]),
+                                                 (yq[M + n], yq[M + N + n], yq[M + 2 * N + n]))
+            else:
+                c1, c2, c3 = spatial.coupled_frame_terms(axial.projection, w, al, yq, n)
+                r1 = spatial.axial_rigid_load(axial.rigid, A[0], spatial.axis_acceleration(w, al)[0], n) / m
+            power += yq[M + n] * (r1 - c1)
+            power += yq[M + N + n] * (r2 - c2)
+            power += yq[M + 2 * N + n] * (r3 - c3)
         return m * power
-    ax = spatial.axis_acceleration(w, al)
+    f = np.empty(M)
     c = np.empty(M)
-    for n in range(N):
-        c1, c2, c3 = spatial.frame_terms(w, al, (yq[n], yq[N + n], yq[2 * N + n]),
-                                         (yq[M + n], yq[M + N + n], yq[M + 2 * N + n]))
-        c[n], c[N + n], c[2 * N + n] = c1, c2, c3
-        for d in range(3):
-            power -= yq[M + d * N + n] * (A[d] * g.r0[n] + ax[d] * g.r1[n])
+    spatial_section.trial_loads(g, axial, yq, A, w, al, np.zeros(M), f, c)
+    for i in range(M):
+        power += yq[M + i] * f[i]
     for d in range(3):
         for k in range(N):
             frame = 0.0
@@ -171,7 +174,7 @@ def spatial_powers_given(kin, yq, p, out):
     out[:] = 0.0
     _oscillators(y, p.spatial.W, p.beam.damping_ratio, p.basis.modal_mass, out)
     A = spatial_effective_acceleration(kin.A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
-    out[1] = _spatial_rigid_power(g, y, yq, A, kin.omega, kin.alpha, p)
+    out[1] = _spatial_rigid_power(g, p.spatial.axial, y, yq, A, kin.omega, kin.alpha, p)
     _face_powers(yq[N:2 * N], yq[M + N:M + 2 * N], kin.x_star, kin.V_r, p, p.beam.width, out)
     if p.film.faces == U2_U3:
         _face_powers(yq[2 * N:M], yq[M + 2 * N:], kin.x_star, kin.V_r, p, p.beam.height, out)

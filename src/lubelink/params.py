@@ -41,6 +41,7 @@ CHOICES = {
     "film.faces": ("u2", "u2+u3"),
     "film.width_series": ("fitted", "sine"),
     "beam.model": ("planar", "spatial"),
+    "beam.axial_end": ("fixed", "free"),
     "contact.law": ("none", "restitution", "compliant"),
     "contact.extent": ("point", "pad"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
@@ -74,6 +75,8 @@ FIELDS = {
     "beam.model": ("", "", "planar: u2 only (paper Eq. 18); spatial: u1, u2, u3 (docs/spatial.md)"),
     "beam.yield_strength": ("Pa", "sigma_y", "yield strength of the link's material (inf: not given); the summary "
                                              "compares the peak bending stress with it"),
+    "beam.axial_end": ("", "", "spatial model: u1 at the slider end, free (no axial force: a massless frictionless "
+                               "slider) or fixed (u1(L) = 0); docs/spatial.md"),
     "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
     "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
     "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),
@@ -194,6 +197,12 @@ class Beam:
     yield_strength : float
         Yield strength of the material [Pa] (``sigma_y``); inf: not given. The results compare the peak bending
         stress with it (``stress_utilisation``).
+    axial_end : str
+        Spatial model only: the axial end condition at the slider end ``x = L`` (docs/spatial.md,
+        "Boundary conditions"). ``"free"``: no axial force there (``E A u1'(L) = 0``; the massless,
+        frictionless slider pushes only normal to its guide), the fixed-free bar's modes
+        ``sin((2 n - 1) pi x / (2 L))``; ``"fixed"``: ``u1(L) = 0``, the fixed-fixed bar's
+        ``sin(n pi x / L)``. ``u1(0) = 0`` either way (the crank pin).
     """
 
     youngs_modulus: float = 207e9
@@ -206,6 +215,7 @@ class Beam:
     height_ratio: float = 1.0
     model: str = "planar"
     yield_strength: float = math.inf
+    axial_end: str = field(default="free", metadata={"kernel": False})  # (compiled code: SpatialTable.axial)
 
     @property
     def area(self) -> float:

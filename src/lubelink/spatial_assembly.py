@@ -73,8 +73,9 @@ class SpatialModel(Model):
         return self.block_state(y, 1)
 
     def deflections(self, y, x):
-        """``(u1, u2, u3)`` [m] at ``x`` [m] of states ``y`` ``(..., 6 N)``."""
-        return spatial.deflections(y, x, self.config.mechanism.rod_length)
+        """``(u1, u2, u3)`` [m] at ``x`` [m] of states ``y`` ``(..., 6 N)`` (sine-mode states; ``u1`` in the axial
+        modes of ``beam.axial_end``)."""
+        return spatial.deflections(y, x, self.config.mechanism.rod_length, self.config.beam.axial_end)
 
     def kinematics(self, t):
         """The in-plane part of the rigid motion at ``t`` [s] as a planar :class:`~lubelink.link.kinematics.RigidMotion`
@@ -179,21 +180,22 @@ def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
     compiled, note = _backend(config, provider)
     if not variable:
         W = spatial.frequencies(b.modes, L, b.youngs_modulus, b.density, b.area, b.second_moment,
-                                b.height * b.width**3 / 12.0)
+                                b.height * b.width**3 / 12.0, b.axial_end)
         params = make_params(config, None)
         galerkin = None
+        axial = None if b.axial_end == "fixed" else spatial.free_axial_basis(b.modes, L, b.density * b.area)
     else:
         from .link.section import taper
 
         sec = taper(b, L) if section is None else section
         try:
             params = make_params(config, None, sec)
-            W, _, galerkin = spatial_section.spatial_galerkin(sec, b.youngs_modulus, b.density, b.modes, L,
-                                                              (params.basis.omega_n, params.basis.modal_mass,
-                                                               params.galerkin))
+            W, _, galerkin, axial = spatial_section.spatial_galerkin(
+                sec, b.youngs_modulus, b.density, b.modes, L,
+                (params.basis.omega_n, params.basis.modal_mass, params.galerkin), b.axial_end)
         except ValueError as exc:
             raise ConfigError([f"beam.model = 'spatial': {exc}"]) from None
     table = provider.table()  # callables: the slider-crank's table holds the place (compiled code is not run)
     table = SpatialTable(np.ascontiguousarray(W, dtype=float), geometry(config.mechanism) if table is None else table,
-                         galerkin)
+                         galerkin, axial)
     return SpatialModel(config, provider, params._replace(spatial=table), compiled, note)

@@ -83,6 +83,7 @@ RULES = {
         "height_ratio": _num(0.01, 100),
         "model": _choice(CHOICES["beam.model"]),
         "yield_strength": _num(0, None, lo_open=True, allow_inf=True),
+        "axial_end": _choice(CHOICES["beam.axial_end"]),
     },
     "film": {
         "model": _choice(CHOICES["film.model"]),
@@ -195,6 +196,9 @@ def validate(config: Config) -> Config:
         problems.append(f"mechanism.crank_tilt = {m.crank_tilt}, mechanism.slider_offset = {m.slider_offset}: "
                         "a mechanism out of its plane needs beam.model = 'spatial' (the planar model is "
                         "planar); set both to 0 or beam.model = 'spatial'")
+    if not spatial and b.axial_end != "free":
+        problems.append(f"beam.axial_end = {_fmt(b.axial_end)}: an axial end condition needs beam.model = 'spatial' "
+                        "(the planar model has no u1); use beam.axial_end = 'free' or beam.model = 'spatial'")
     if not spatial and fm.faces != "u2":
         problems.append(f"film.faces = {_fmt(fm.faces)}: a film pair on the u3 faces needs beam.model = 'spatial' "
                         "(the planar model has no u3); use film.faces = 'u2' or beam.model = 'spatial'")

@@ -2,13 +2,15 @@
 
 The link moves in space with the rigid motion of its frame ``(O; e1, e2, e3)``, ``e1`` along the
 link: angular velocity ``w`` and acceleration ``alpha``, true acceleration of O ``a_O``, all three
-in link-frame components. Axial ``u1`` and bending ``u2`` (in the ``e1 e2`` plane, stiffness
-``E I_z``) and ``u3`` (``E I_y``) are expanded in the same sine modes ``sin(beta_n x)``: the
-pinned-pinned bending modes, and for ``u1`` the fixed-fixed bar modes (both pins lie on the
-prescribed rigid motion, docs/spatial.md). The acceleration of a material point,
+in link-frame components. Bending ``u2`` (in the ``e1 e2`` plane, stiffness ``E I_z``) and ``u3``
+(``E I_y``) are expanded in the pinned-pinned sine modes ``sin(beta_n x)``; the axial ``u1`` in the
+modes of the bar with the end condition ``beam.axial_end`` (docs/spatial.md, "Boundary
+conditions"): ``"fixed"``, ``u1(0) = u1(L) = 0``, the same sines; ``"free"``, ``u1(0) = 0`` and no
+axial force at ``L`` (the slider), ``sin(gamma_n x)``, ``gamma_n = (2 n - 1) pi / (2 L)``
+(:func:`free_wavenumbers`). The acceleration of a material point,
 ``a = a_O + alpha x r + w x (w x r) + 2 w x r_t + r_tt`` with ``r = (x + u1, u2, u3)``, is then
-projected on the modes; for a uniform section every term couples only the three coordinates of
-the same mode ``n``, ``Q = (q1_n, q2_n, q3_n)``:
+projected on the modes. With the fixed end every term couples only the three coordinates of the
+same mode ``n``, ``Q = (q1_n, q2_n, q3_n)``:
 
     Q_tt + 2 w x Q_t + alpha x Q + w x (w x Q) + diag(W_n^2) Q + 2 zeta diag(W_n) Q_t
         = - [a_O c0_n + (alpha x e1 + w x (w x e1)) c1_n] + F_n / m
@@ -16,9 +18,13 @@ the same mode ``n``, ``Q = (q1_n, q2_n, q3_n)``:
 ``W_n = (beta_n sqrt(E/rho), beta_n^2 sqrt(E I_z/(rho A)), beta_n^2 sqrt(E I_y/(rho A)))``,
 ``c0_n``, ``c1_n`` the sine transforms of 1 and ``x`` per unit modal mass ``m = rho A L / 2``
 (:func:`lubelink.beam.rigid_load`), ``F_n`` the modal forces [N] (film on the ``u2`` faces).
+With the free end the axial modes are ``gamma_n sqrt(E/rho)``, their rigid load the transforms of
+:class:`AxialBasis`, and a frame term of one direction reads the other directions' displacements
+projected on its own basis (:func:`coupled_frame_terms`: the matrix ``C`` of :func:`free_axial_basis`
+from the bending sines to the axial modes, ``C^T`` back).
 The planar motion ``w = (0, 0, omega)``, ``alpha = (0, 0, alpha)`` leaves ``u3 = 0`` and differs
-from the planar model (docs/model.md section 2) only by ``2 omega q1_t + alpha q1`` in the ``u2``
-equation (the axial-bending Coriolis and Euler terms) and by the axial equation itself.
+from the planar model (docs/model.md section 2) only by ``2 omega u1_t + alpha u1`` projected on
+the ``u2`` modes (the axial-bending Coriolis and Euler terms) and by the axial equation itself.
 
 State ``y = [q1_1..q1_N, q2_1..q2_N, q3_1..q3_N, and their velocities]``: 3N oscillators with the
 diagonal linear part ``diag(W^2)`` of :func:`frequencies` (the exponential integrator's form).
@@ -34,18 +40,69 @@ import numpy as np
 from .._jit import jitable
 from ..beam import rigid_load, wavenumbers
 
-__all__ = ["SpatialRigidMotion", "frequencies", "axis_acceleration", "rigid_loads", "frame_terms", "accelerations",
-           "oscillator_jacobian",
-           "deflections"]
+__all__ = ["SpatialRigidMotion", "AxialBasis", "free_wavenumbers", "axial_wavenumbers", "free_axial_basis",
+           "frequencies", "axis_acceleration", "rigid_loads", "axial_rigid_load", "frame_terms", "coupled_frame_terms",
+           "accelerations", "oscillator_jacobian", "deflections"]
 
 
-def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y):
+class AxialBasis(NamedTuple):
+    """The free-end axial modes ``psi_n`` for compiled code (``beam.axial_end = "free"``; the fixed end has none:
+    its axial modes are the bending sines themselves). Two arrays (each array a compiled call passes costs
+    reference counts):
+
+    ``projection`` ``(2, N, N)``: ``[0]`` the axial coordinates of the Galerkin projection of a field given in the
+    bending sine coordinates, ``M11^-1 M12`` (``M11_mn = int rho A psi_m psi_n dx``,
+    ``M12_mn = int rho A psi_m s_n dx``, ``s_n = sin(beta_n x)``); ``[1]`` the sine coordinates of the projection of
+    an axial field, ``M22^-1 M21``. ``rigid`` ``(2, N)``: ``int rho A psi_n dx`` [kg] and ``int rho A x psi_n dx``
+    [kg m], the rigid-load vectors of the axial modes.
+    """
+
+    projection: np.ndarray
+    rigid: np.ndarray
+
+
+def free_wavenumbers(modes, rod_length):
+    """``gamma_n = (2 n - 1) pi / (2 L)`` [1/m], ``n = 1..modes``: the fixed-free bar's modes ``sin(gamma_n x)``
+    (``u1(0) = 0``, ``u1'(L) = 0``)."""
+    return (2.0 * np.arange(1, modes + 1) - 1.0) * np.pi / (2.0 * rod_length)
+
+
+def axial_wavenumbers(modes, rod_length, axial_end):
+    """Wavenumbers [1/m] of the axial modes ``sin(k_n x)`` of the end condition ``axial_end``: ``"fixed"``
+    ``n pi / L`` (:func:`lubelink.beam.wavenumbers`), ``"free"`` :func:`free_wavenumbers`."""
+    if axial_end == "fixed":
+        return wavenumbers(modes, rod_length)
+    if axial_end == "free":
+        return free_wavenumbers(modes, rod_length)
+    raise ValueError(f"axial_end = {axial_end!r}: must be 'fixed' or 'free'")
+
+
+def free_axial_basis(modes, rod_length, linear_density):
+    """The :class:`AxialBasis` of a uniform link [SI] (``linear_density`` ``rho A`` [kg/m]), in closed form.
+
+    ``psi_m = sin(gamma_m x)`` and ``s_n = sin(beta_n x)`` both have the mass ``rho A L / 2``, so the
+    projections are ``C`` and ``C^T`` with ``C_mn = (2/L) int_0^L psi_m s_n dx
+    = (1/L) [sin((gamma_m - beta_n) L) / (gamma_m - beta_n) - sin((gamma_m + beta_n) L) / (gamma_m + beta_n)]``
+    (``gamma_m != beta_n`` always); ``r0_n = rho A / gamma_n``, ``r1_n = rho A (-1)^(n+1) / gamma_n^2``
+    (``cos(gamma_n L) = 0``, ``sin(gamma_n L) = (-1)^(n+1)``).
+    """
+    g = free_wavenumbers(modes, rod_length)
+    b = wavenumbers(modes, rod_length)
+    minus, plus = g[:, None] - b[None, :], g[:, None] + b[None, :]
+    C = (np.sin(minus * rod_length) / minus - np.sin(plus * rod_length) / plus) / rod_length
+    sign = 1.0 - 2.0 * ((np.arange(1, modes + 1) + 1) % 2)  # (-1)^(n+1)
+    return AxialBasis(np.ascontiguousarray(np.stack([C, C.T])), np.stack([linear_density / g,
+                                                                          linear_density * sign / g**2]))
+
+
+def frequencies(modes, rod_length, youngs_modulus, density, area, I_z, I_y, axial_end="fixed"):
     """``[axial, in-plane, out-of-plane]`` natural frequencies [rad/s], shape ``(3 N,)``.
 
-    Axial fixed-fixed bar ``n pi / L sqrt(E / rho)``; bending ``beta_n^2 sqrt(E I / (rho A))``.
+    Axial: the bar ``k_n sqrt(E / rho)`` with ``k_n`` the :func:`axial_wavenumbers` of ``axial_end``
+    (fixed-fixed ``n pi / L``, fixed-free ``(2 n - 1) pi / (2 L)``); bending ``beta_n^2 sqrt(E I / (rho A))``.
     """
     beta = wavenumbers(modes, rod_length)
-    return np.concatenate([beta * np.sqrt(youngs_modulus / density),
+    return np.concatenate([axial_wavenumbers(modes, rod_length, axial_end) * np.sqrt(youngs_modulus / density),
                            beta**2 * np.sqrt(youngs_modulus * I_z / (density * area)),
                            beta**2 * np.sqrt(youngs_modulus * I_y / (density * area))])
 
@@ -69,6 +126,14 @@ def rigid_loads(a_O, w, al, n, rod_length):
 
 
 @jitable(inline=True)
+def axial_rigid_load(rigid, A1, g1, n):
+    """Load [N] of the rigid-motion inertia ``-rho A (A1 + g1 x)`` on the free-end axial mode ``n`` (from 0):
+    ``-(A1 r0_n + g1 r1_n)`` (``rigid = [r0, r1]``, :class:`AxialBasis` ``.rigid``; ``A1`` [m/s^2], ``g1`` the axial
+    :func:`axis_acceleration` [1/s^2])."""
+    return -(A1 * rigid[0, n] + g1 * rigid[1, n])
+
+
+@jitable(inline=True)
 def frame_terms(w, al, x, v):
     """``2 w x v + alpha x x + w x (w x x)`` [m/s^2], a 3-tuple: the Coriolis, Euler and centrifugal
     accelerations of a displacement ``x`` [m] moving at ``v`` [m/s] relative to the link frame (3-tuples
@@ -82,11 +147,54 @@ def frame_terms(w, al, x, v):
             2.0 * (w1 * v[1] - w2 * v[0]) + (al[0] * x[1] - al[1] * x[0]) + (w3 * wq - ww * x[2]))
 
 
+@jitable(inline=True)
+def coupled_frame_terms(T, w, al, y, n):
+    """:func:`frame_terms` [m/s^2] of mode ``n`` (from 0) of the state ``y`` ``(6 N,)`` whose axial block holds the
+    coordinates of the free-end modes, a 3-tuple; ``T`` their projections (:class:`AxialBasis` ``.projection``).
+
+    Each direction's term is the Galerkin projection on its own modes: the axial one reads the bending
+    coordinates projected on the axial modes (``T[0]``), the bending ones the axial coordinates projected on the
+    sines (``T[1]``); the same-basis couplings stay mode by mode. (The arrays, not the table: a loop that calls it
+    reads them once.)
+    """
+    N = T.shape[1]
+    M = 3 * N
+    x2 = x3 = v2 = v3 = x1 = v1 = 0.0
+    for k in range(N):
+        P = T[0, n, k]
+        x2 += P * y[N + k]
+        x3 += P * y[2 * N + k]
+        v2 += P * y[M + N + k]
+        v3 += P * y[M + 2 * N + k]
+        S = T[1, n, k]
+        x1 += S * y[k]
+        v1 += S * y[M + k]
+    c1 = frame_terms(w, al, (y[n], x2, x3), (y[M + n], v2, v3))[0]
+    c = frame_terms(w, al, (x1, y[N + n], y[2 * N + n]), (v1, y[M + N + n], y[M + 2 * N + n]))
+    return c1, c[1], c[2]
+
+
 @jitable
-def oscillator_jacobian(W, zeta, w, al, Jq, Jv):
+def _subtract_block(Jq, Jv, row, col, cx, cv, P):
+    """``Jq[row block, col block] -= cx P``, ``Jv[...] -= cv P`` (``N x N`` blocks; ``P`` None: the identity)."""
+    N = Jq.shape[0] // 3
+    if P is None:
+        for n in range(N):
+            Jq[row + n, col + n] -= cx
+            Jv[row + n, col + n] -= cv
+    else:
+        for n in range(N):
+            for k in range(N):
+                Jq[row + n, col + k] -= cx * P[n, k]
+                Jv[row + n, col + k] -= cv * P[n, k]
+
+
+@jitable
+def oscillator_jacobian(W, zeta, w, al, Jq, Jv, axial=None):
     """Add ``d Q_tt / d Q`` and ``d Q_tt / d Q_t`` [1/s^2, 1/s] of :func:`accelerations` without its loads to ``Jq``,
     ``Jv`` ``(3 N, 3 N)``: the oscillators ``-W^2``, ``-2 zeta W`` on the diagonals and the link frame's
-    accelerations of each mode's three coordinates.
+    accelerations of each mode's three coordinates (``axial`` an :class:`AxialBasis`: between the axial and the
+    bending blocks, those of :func:`coupled_frame_terms`).
 
     :func:`frame_terms` is linear in the displacement and its velocity, so its columns are its values at unit
     vectors: the Jacobian of the very function the right-hand side calls.
@@ -98,16 +206,28 @@ def oscillator_jacobian(W, zeta, w, al, Jq, Jv):
         cx = frame_terms(w, al, unit, zero)
         cv = frame_terms(w, al, zero, unit)
         for d in range(3):
-            for n in range(N):
-                Jq[d * N + n, e * N + n] -= cx[d]
-                Jv[d * N + n, e * N + n] -= cv[d]
+            if axial is None:
+                _subtract_block(Jq, Jv, d * N, e * N, cx[d], cv[d], None)
+            elif d == 0 and e != 0:
+                _subtract_block(Jq, Jv, d * N, e * N, cx[d], cv[d], axial.projection[0])
+            elif e == 0 and d != 0:
+                _subtract_block(Jq, Jv, d * N, e * N, cx[d], cv[d], axial.projection[1])
+            else:
+                _subtract_block(Jq, Jv, d * N, e * N, cx[d], cv[d], None)
     for i in range(3 * N):
         Jq[i, i] -= W[i] * W[i]
         Jv[i, i] -= 2.0 * zeta * W[i]
 
 
+@jitable(inline=True)
+def _mode_acceleration(W, zeta, F, modal_mass, i, x, v, r, c):
+    """Acceleration [m/s^2] of coordinate ``i`` at ``x`` [m], ``v`` [m/s]: its oscillator (``W`` [rad/s], ``zeta``), its
+    force ``F[i]`` [N] per modal mass [kg], the rigid load ``r`` and the frame term ``c`` [m/s^2]."""
+    return -W[i] ** 2 * x - 2.0 * zeta * W[i] * v + F[i] / modal_mass + r - c
+
+
 @jitable
-def accelerations(y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out):
+def accelerations(y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out, axial=None):
     """``out = dy/dt`` of the spatial modal equations (module docstring) [SI].
 
     Parameters
@@ -125,7 +245,12 @@ def accelerations(y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out):
         Modal forces [N] along ``e1``, ``e2``, ``e3`` (may alias ``out[3N:]``: read first).
     modal_mass : float
         ``rho A L / 2`` [kg].
+    axial : AxialBasis or None
+        The free-end axial modes (``y``'s axial block their coordinates); None: the fixed end's sines.
     """
+    if axial is not None:
+        _free_accelerations(axial.projection, axial.rigid, y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out)
+        return
     N = W.shape[0] // 3
     M = 3 * N
     for n in range(N):
@@ -134,20 +259,44 @@ def accelerations(y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out):
         v1, v2, v3 = y[M + i1], y[M + i2], y[M + i3]
         r1, r2, r3 = rigid_loads(a_O, w, al, n + 1, rod_length)
         c1, c2, c3 = frame_terms(w, al, (x1, x2, x3), (v1, v2, v3))
-        out[M + i1] = -W[i1] ** 2 * x1 - 2.0 * zeta * W[i1] * v1 + F[i1] / modal_mass + r1 - c1
-        out[M + i2] = -W[i2] ** 2 * x2 - 2.0 * zeta * W[i2] * v2 + F[i2] / modal_mass + r2 - c2
-        out[M + i3] = -W[i3] ** 2 * x3 - 2.0 * zeta * W[i3] * v3 + F[i3] / modal_mass + r3 - c3
+        out[M + i1] = _mode_acceleration(W, zeta, F, modal_mass, i1, x1, v1, r1, c1)
+        out[M + i2] = _mode_acceleration(W, zeta, F, modal_mass, i2, x2, v2, r2, c2)
+        out[M + i3] = _mode_acceleration(W, zeta, F, modal_mass, i3, x3, v3, r3, c3)
         out[i1] = v1
         out[i2] = v2
         out[i3] = v3
 
 
-def deflections(y, x, rod_length):
-    """``(u1, u2, u3)`` [m] at ``x`` of states ``y`` shape ``(..., 6 N)``; each shape ``(..., len(x))``."""
+@jitable
+def _free_accelerations(projection, rigid, y, W, zeta, a_O, w, al, F, modal_mass, rod_length, out):
+    """:func:`accelerations` with the free-end axial modes (:class:`AxialBasis` ``projection``, ``rigid``): the axial
+    rigid load of :func:`axial_rigid_load`, the frame terms of :func:`coupled_frame_terms`."""
+    N = W.shape[0] // 3
+    M = 3 * N
+    g1 = axis_acceleration(w, al)[0]
+    for n in range(N):
+        i1, i2, i3 = n, N + n, 2 * N + n
+        r2, r3 = rigid_loads(a_O, w, al, n + 1, rod_length)[1:]
+        r1 = axial_rigid_load(rigid, a_O[0], g1, n) / modal_mass
+        c1, c2, c3 = coupled_frame_terms(projection, w, al, y, n)
+        out[M + i1] = _mode_acceleration(W, zeta, F, modal_mass, i1, y[i1], y[M + i1], r1, c1)
+        out[M + i2] = _mode_acceleration(W, zeta, F, modal_mass, i2, y[i2], y[M + i2], r2, c2)
+        out[M + i3] = _mode_acceleration(W, zeta, F, modal_mass, i3, y[i3], y[M + i3], r3, c3)
+    for i in range(M):
+        out[i] = y[M + i]
+
+
+def deflections(y, x, rod_length, axial_end="fixed"):
+    """``(u1, u2, u3)`` [m] at ``x`` of states ``y`` shape ``(..., 6 N)``; each shape ``(..., len(x))``.
+
+    ``u1`` in the axial modes of ``axial_end`` (:func:`axial_wavenumbers`), ``u2``, ``u3`` in the sines.
+    """
     y = np.asarray(y, dtype=float)
     N = y.shape[-1] // 6
-    S = np.sin(np.outer(wavenumbers(N, rod_length), np.asarray(x, dtype=float)))
-    return tuple(y[..., k * N:(k + 1) * N] @ S for k in range(3))
+    x = np.asarray(x, dtype=float)
+    S = np.sin(np.outer(wavenumbers(N, rod_length), x))
+    S1 = S if axial_end == "fixed" else np.sin(np.outer(axial_wavenumbers(N, rod_length, axial_end), x))
+    return (y[..., :N] @ S1, y[..., N:2 * N] @ S, y[..., 2 * N:3 * N] @ S)
 
 
 @jitable

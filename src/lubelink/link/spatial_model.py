@@ -1,8 +1,8 @@
 """The spatial model (``beam.model = "spatial"``): its compiled right-hand side and gap.
 
-State ``y = [q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``; :mod:`lubelink.link.spatial`): axial ``u1``,
-in-plane ``u2`` and out-of-plane ``u3`` sine modes of a uniform link under the rigid motion of
-the spatial slider-crank (:mod:`lubelink.link.spatial_motion`). The equations are
+State ``y = [q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``; :mod:`lubelink.link.spatial`): axial ``u1`` (the bar
+modes of ``beam.axial_end``), in-plane ``u2`` and out-of-plane ``u3`` sine modes of a uniform link under the
+rigid motion of the spatial slider-crank (:mod:`lubelink.link.spatial_motion`). The equations are
 :func:`lubelink.link.spatial.accelerations`; the collar's film (and the asperity contact) act on the
 ``u2`` faces exactly as in the planar model, the same functions called on the ``q2`` block
 (:func:`lubelink.film.modal_film_force`, :func:`lubelink.link.faces.thinnest_on`,
@@ -54,12 +54,15 @@ class SpatialTable(NamedTuple):
     ``W``: the ``3 N`` natural frequencies ``[axial, in-plane, out-of-plane]`` [rad/s]
     (:func:`lubelink.link.spatial.frequencies`; of a variable section the Galerkin eigenvalues);
     ``motion``: the :class:`SpatialMotion`; ``galerkin``: the eigenbases of a variable section
-    (:class:`~lubelink.link.spatial_section.SpatialGalerkin`; None for a uniform link).
+    (:class:`~lubelink.link.spatial_section.SpatialGalerkin`; None for a uniform link); ``axial``: the free
+    axial end's couplings (:class:`~lubelink.link.spatial.AxialBasis`; None for the fixed end, whose
+    axial functions are the bending sines: the code for it is not compiled then).
     """
 
     W: np.ndarray
     motion: SpatialMotion
     galerkin: spatial_section.SpatialGalerkin | None = None
+    axial: spatial.AxialBasis | None = None
 
 
 @jitable
@@ -110,13 +113,14 @@ def _compliant_spatial(phase, y, x_star, V_r, p, F):
 @jitable(inline=True)
 def spatial_rhs_given(kin, y, out, p):
     """``dy/dt`` into ``out`` for the rigid motion ``kin`` (:class:`~lubelink.link.spatial.SpatialRigidMotion`), without a sustained contact."""
-    _rhs_in(p.spatial.galerkin, kin, y, out, p)
+    _rhs_in(p.spatial.galerkin, p.spatial.axial, kin, y, out, p)
 
 
 @jitable
-def _rhs_in(g, kin, y, out, p):
+def _rhs_in(g, axial, kin, y, out, p):
     """:func:`spatial_rhs_given` for the eigenbases ``g`` (None, a uniform link: the sine-mode equations; the
-    branches of the other case are pruned when compiled, so a uniform link runs the code it always ran)."""
+    branches of the other case are pruned when compiled, so a uniform link runs the code it always ran) and the
+    free axial end's couplings ``axial`` (None: the fixed end, likewise)."""
     A_O, w, al = kin.A_O, kin.omega, kin.alpha
     x_star, V_r = kin.x_star, kin.V_r
     N = p.basis.modes
@@ -134,10 +138,10 @@ def _rhs_in(g, kin, y, out, p):
     _compliant_spatial(p.phase, yq, x_star, V_r, p, F)
     A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
     if g is None:
-        spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out)
+        spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out, axial)
     else:
         spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
-                                            p.basis.modal_mass, out)
+                                            p.basis.modal_mass, out, axial)
 
 
 @jitable
@@ -164,7 +168,8 @@ def spatial_jacobian_given(kin, y, J, p):
     The uniform link outside a sustained contact, as the planar :func:`~lubelink.link.model.jacobian_given`:
     the identity block of ``dQ/dt = Q_t``; :func:`~lubelink.link.spatial.oscillator_jacobian`; the film and
     asperity contact of each pair of faces (:func:`~lubelink.link.faces.face_jacobian` on its block) and the
-    compliant contact of a contact phase on its block, divided by the modal mass.
+    compliant contact of a contact phase on its block, divided by the modal mass (the free axial end's
+    couplings of ``p.spatial.axial`` in the frame's terms).
     """
     N = p.basis.modes
     M = 3 * N
@@ -180,7 +185,7 @@ def spatial_jacobian_given(kin, y, J, p):
         _compliant_jacobian_spatial(p.phase, y, x_star, V_r, p, Jq, Jv)
     Jq /= p.basis.modal_mass
     Jv /= p.basis.modal_mass
-    spatial.oscillator_jacobian(p.spatial.W, p.beam.damping_ratio, kin.omega, kin.alpha, Jq, Jv)
+    spatial.oscillator_jacobian(p.spatial.W, p.beam.damping_ratio, kin.omega, kin.alpha, Jq, Jv, p.spatial.axial)
     for i in range(M):
         J[i, M + i] = 1.0
 
