@@ -82,7 +82,8 @@ def test_planar_case_right_hand_side_is_the_planar_one_plus_the_axial_terms(film
 
 @pytest.mark.parametrize("scenario", ["paper-dry", "paper"])
 def test_planar_case_through_simulate_matches_the_planar_model(scenario):
-    """u3 stays zero; u2_mid within 0.1 um of the planar model (the axial Coriolis/Euler terms, ~10 nm)."""
+    """u3 stays zero; u2_mid within 0.1 um of the planar model (the axial Coriolis/Euler terms: 46 nm dry, 61 nm with
+    the film, the free axial end; 13-17 nm fixed)."""
     over = {"beam.modes": 3, "solver.t_end": 0.3, **TIGHT}
     pl = lubelink.simulate(scenario, set=over)
     sp = lubelink.simulate(scenario, set={**over, "beam.model": "spatial"})
@@ -249,8 +250,8 @@ def test_bad_spatial_configurations_are_refused(over, words):
 
 def test_compliant_impacts_on_the_u2_faces_match_the_planar_model():
     """paper-impact's first compliant contact (1 mode, to 1.2744 s): the planar case of the spatial model makes
-    contact at the planar model's time (2e-6 s later: the axial coupling, 0.25 um on u2 by then) with its velocity
-    and force."""
+    contact at the planar model's time (6.7e-6 s later: the axial coupling, 0.87 um on u2 by then, with the free
+    axial end; 2e-6 s and 0.25 um with the fixed one) with its velocity and force."""
     over = {"solver.t_end": 1.2744, "contact.law": "compliant"}
     pl = lubelink.simulate("paper-impact", set=over)
     sp = lubelink.simulate("paper-impact", set={**over, "beam.model": "spatial"})
@@ -264,18 +265,19 @@ def test_compliant_impacts_on_the_u2_faces_match_the_planar_model():
 
 def test_the_zeno_sequence_and_sustained_contact_match_the_planar_model():
     """paper-impact to its end (2 s, restitution, 1 mode): the planar case of the spatial model has the planar
-    model's 21 impacts (the Zeno sequence at 1.2732-1.2745 s, then three single ones; times within 2e-6 s, the
-    axial coupling's shift), the same sustained contact (1.27447-1.29971 s; start within 2e-6 s, end within 1e-7 s
-    measured), the same contact phase at every sample, its force within 1e-5 of its 771 N peak, and u2_mid within
-    0.43 um of a 4.79 mm peak (the axial-bending terms alpha u1 + 2 omega u1_t; u1 is 0.68 um); u3 stays 0."""
+    model's 21 impacts (the Zeno sequence at 1.2732-1.2745 s, then three single ones; times within 6.7e-6 s, the
+    axial coupling's shift), the same sustained contact (1.27447-1.29971 s; start within 5.5e-6 s, end within
+    2e-7 s measured), the same contact phase at every sample, its force within 2e-5 of its 771 N peak, and u2_mid
+    within 0.87 um of a 4.79 mm peak (the axial-bending terms alpha u1 + 2 omega u1_t; u1 is 2.8 um with the free
+    axial end; 0.43 um, 0.68 um and 2e-6 s with the fixed one); u3 stays 0."""
     runs = [simulate_run(resolve("paper-impact", over)) for over in ({}, {"beam.model": "spatial"})]
     pl, sp = (to_dataset(r) for r in runs)
     assert sp.attrs["status"] == pl.attrs["status"] == "complete"
     assert sp.sizes["impact"] == pl.sizes["impact"] == 21
     np.testing.assert_array_equal(sp.impact_side.values, pl.impact_side.values)
-    np.testing.assert_allclose(sp.impact_time.values, pl.impact_time.values, rtol=0, atol=1e-5)  # 1.96e-6
+    np.testing.assert_allclose(sp.impact_time.values, pl.impact_time.values, rtol=0, atol=1e-5)  # 6.7e-6
     v = pl.impact_velocity.values
-    np.testing.assert_allclose(sp.impact_velocity.values, v, rtol=0, atol=1e-3 * np.max(np.abs(v)))  # 4.9e-5
+    np.testing.assert_allclose(sp.impact_velocity.values, v, rtol=0, atol=1e-3 * np.max(np.abs(v)))  # 1.8e-4
     (c_pl,), (c_sp,) = runs[0].contacts, runs[1].contacts
     assert c_pl[2] == c_sp[2] == 1 and 1.274 < c_pl[0] < 1.275 and 1.29 < c_pl[1] < 1.31
     np.testing.assert_allclose(c_sp[:2], c_pl[:2], rtol=0, atol=1e-5)

@@ -18,9 +18,9 @@ The state is the model's whole integration state: ``[q, q_dot]`` (``2 N``) of th
 ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``) of the spatial one (``beam.model = "spatial"``,
 :mod:`lubelink.link.spatial_model`); nothing here depends on which. For the spatial model ``"auto"``
 takes the monodromy matrix by finite differences even in a smooth period: the variational
-equations are integrated in Python by an explicit method, whose step the axial modes (16 krad/s
-and up, a fixed-fixed bar) limit, while the map itself runs compiled (the configuration's
-``solver.method``; docs/periodic.md, "The spatial model", compares the accuracy of the
+equations are integrated in Python by an explicit method, whose step the axial modes (8 krad/s
+and up with the free axial end, 16 with the fixed one) limit, while the map itself runs compiled (the
+configuration's ``solver.method``; docs/periodic.md, "The spatial model", compares the accuracy of the
 differences under the exponential method and under DOP853).
 
 Shooting tightens the solver tolerances to at least ``rtol = 1e-10``, ``atol = 1e-13`` [m, m/s]:
