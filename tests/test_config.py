@@ -221,3 +221,19 @@ def test_a_scenario_with_plain_overrides_is_resolved_once(monkeypatch):
     with pytest.raises(ConfigError):
         resolve("paper", listed)
     assert len(seen) == 7
+
+
+def test_a_stored_spatial_configuration_without_the_axial_end_reads_fixed():
+    """A configuration stored with results (a results file's or a sweep's) lacking beam.axial_end was computed with the
+    fixed axial end (docs/spatial.md, "Boundary conditions"); one that has it, and a planar one, read as written."""
+    from lubelink.config import from_stored, to_dict
+
+    data = to_dict(resolve("spatial-slider-crank"))
+    assert data["beam"]["axial_end"] == "free"  # the default
+    assert from_stored(data, "stored").beam.axial_end == "free"
+    del data["beam"]["axial_end"]
+    assert from_stored(data, "stored").beam.axial_end == "fixed"
+    assert "axial_end" not in data["beam"]  # the caller's dict is left as it was
+    planar = to_dict(resolve("paper"))
+    del planar["beam"]["axial_end"]
+    assert from_stored(planar, "stored").beam.axial_end == "free"

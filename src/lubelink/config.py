@@ -25,6 +25,7 @@ __all__ = [
     "scenario",
     "load",
     "from_dict",
+    "from_stored",
     "to_dict",
     "to_toml",
     "parse_override",
@@ -118,6 +119,19 @@ def from_dict(data: dict, origin: str = "configuration") -> Config:
     the default base is ``paper``.
     """
     return _validated(*_from_dict(data, origin))
+
+
+def from_stored(data: dict, origin: str) -> Config:
+    """:func:`from_dict` of a configuration stored beside its results (a results file, a sweep's base).
+
+    A stored spatial configuration (``beam.model = "spatial"``) without ``beam.axial_end`` was computed with
+    the axial end fixed (docs/spatial.md, "Boundary conditions"): it is read with ``"fixed"``, so that it
+    computes again what it computed then.
+    """
+    beam = data.get("beam") if isinstance(data, dict) else None
+    if isinstance(beam, dict) and beam.get("model") == "spatial" and "axial_end" not in beam:
+        data = {**data, "beam": {**beam, "axial_end": "fixed"}}
+    return from_dict(data, origin)
 
 
 def _from_dict(data: dict, origin: str):

@@ -174,7 +174,7 @@ def config_of(dataset):
     attribute, or not TOML), :class:`~lubelink.config.ConfigError` for a configuration this
     version does not accept.
     """
-    from .config import ConfigError, from_dict, parse_toml
+    from .config import ConfigError, from_stored, parse_toml
 
     attrs = getattr(dataset, "attrs", None)
     text = attrs.get("config") if isinstance(attrs, dict) else None
@@ -185,4 +185,4 @@ def config_of(dataset):
         data = parse_toml(text, "the results' config attribute")
     except ConfigError as exc:
         raise ResultsFileError(f"not lubelink results: {exc.problems[0]}") from None
-    return from_dict(data, origin="the results' config attribute")
+    return from_stored(data, origin="the results' config attribute")

@@ -398,7 +398,7 @@ def point_config(results, point):
     Example: ``lubelink.simulate(point_config(ds, {...}))`` runs that point again
     with its full results.
     """
-    from ..config import from_dict, resolve
+    from ..config import from_stored, resolve
 
     ds = results if hasattr(results, "data_vars") else load_sweep(results)
     dims = ds.attrs["swept_dims"].split()
@@ -410,7 +410,7 @@ def point_config(results, point):
     except KeyError as exc:
         raise SweepError(f"point {point}: no such value {exc}") from None
     overrides = {str(c.attrs["parameter"]): c.values.item() for c in one.coords.values() if "parameter" in c.attrs}
-    return resolve(from_dict(tomllib.loads(ds.attrs["base_config"])), overrides)
+    return resolve(from_stored(tomllib.loads(ds.attrs["base_config"]), "the sweep's base_config attribute"), overrides)
 
 
 def _check_format(path, attrs):
