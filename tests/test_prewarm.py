@@ -251,3 +251,24 @@ def test_a_ctrl_c_lost_in_a_callback_from_the_compiler_interrupts_all_the_same(t
     said = out["guarded"].stdout.strip()
     assert out["guarded"].stderr == ""  # the lost one is not reported: it is raised again
     assert said.startswith("interrupted after") and float(said.split()[2]) < 1.0, said
+
+
+@pytest.mark.skipif(not _jit.ENABLED, reason="Numba is off")
+def test_a_compile_is_announced_once_and_a_compiled_function_not_at_all():
+    import numba
+
+    @numba.njit
+    def twice(x):
+        return 2.0 * x
+
+    said = []
+    with _prewarm.announcing(said.append) as once:
+        assert twice(1.0) == 2.0 and twice(2) == 4  # two compilations (float, int): one announcement
+    assert said == [_prewarm.COMPILING]
+    with _prewarm.announcing(said.append) as once:
+        twice(3.0)  # compiled already: nothing said
+        once("first_run's own line")  # the once-only say given to first_run
+        once("a second line")
+    assert said == [_prewarm.COMPILING, "first_run's own line"]
+    with _prewarm.announcing(None) as once:
+        assert once is None

@@ -39,7 +39,7 @@ import time
 
 from ._jit import compile_errors, cores
 
-__all__ = ["start", "wait", "first_run", "compile_on_two_cores", "ctrl_c_while_compiling"]
+__all__ = ["start", "wait", "first_run", "announcing", "compile_on_two_cores", "ctrl_c_while_compiling"]
 
 #: Longest wait for the helper [s]: beyond it this process compiles what it still needs itself.
 WAIT_LIMIT = 120.0
@@ -214,6 +214,42 @@ def _run_is_cached(config, p_type) -> bool:
 COMPILING = "compiling the kernels, once for this configuration's kind (about 30-60 s; cached on disk)"
 
 
+@contextlib.contextmanager
+def announcing(say):
+    """Within the block, ``say(COMPILING)`` once, when Numba starts compiling a function.
+
+    Yields the once-only ``say`` (for :func:`first_run`, so a compile it announces is not announced
+    twice), or None when ``say`` is None. Numba's ``numba:compile`` event fires on a compilation, not on a
+    load from the on-disk cache, so a warm run says nothing; every path that compiles (the spatial model,
+    a user motion, the results' kernels) is announced, in whichever thread it compiles.
+    """
+    if say is None:
+        yield None
+        return
+    said = []
+
+    def once(line=COMPILING):
+        if not said:
+            said.append(line)
+            say(line)
+
+    try:
+        from numba.core import event
+    except ImportError:
+        yield once
+        return
+
+    class _Announce(event.Listener):
+        def on_start(self, ev):
+            once()
+
+        def on_end(self, ev):
+            pass
+
+    with event.install_listener("numba:compile", _Announce()):
+        yield once
+
+
 def _as_python(model, lock, busy):
     """``model``'s ``numpy``-backend copy for a short cold run (a background compile started unless ``busy``),
     or None when the run would be long as Python."""
@@ -355,12 +391,17 @@ def main():
 
 
 def compile_results(model):
-    """Compile the batched results kernels of ``model`` (a results of two samples of the rest state)."""
+    """Compile the batched results kernels of ``model``: the results of three samples of the rest state, the last in
+    a contact phase where the model has a contact law (its force kernels are only called for such samples)."""
     import numpy as np
 
     from .results import Run, collect
 
-    collect(Run(model=model, t=np.array([0.0, 1e-3]), y=np.zeros((2, model.initial_state().size))))
+    n = model.initial_state().size
+    inside = np.array([0.0, 0.0, 1.0 if model.config.contact.law != "none" else 0.0])
+    with np.errstate(all="ignore"):
+        collect(Run(model=model, t=np.array([0.0, 1e-3, 2e-3]), y=np.zeros((3, n)), phase_side=inside,
+                    phase_v=np.zeros(3), phase_point=np.full(3, 0.5 * model.config.film.pad_length)))
 
 
 if __name__ == "__main__":

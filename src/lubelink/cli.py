@@ -253,7 +253,7 @@ def _nothing():
 def _cmd_run(args):
     import time
 
-    from ._prewarm import first_run
+    from ._prewarm import announcing, first_run
     from .build import build_model
     from .netcdf import EXISTS, output_problem
     from .results import collect
@@ -280,10 +280,11 @@ def _cmd_run(args):
     show = not args.quiet and on_terminal(sys.stderr)  # never into a redirected log
     with Progress(config.solver.t_end, sys.stderr, delay=PROGRESS_DELAY) if show else _nothing() as bar:
         say = bar.phase if show else None if args.quiet else lambda line: print(f"lubelink: {line}", file=sys.stderr)
-        result = run(config, progress=bar.update if show else None, model=first_run(build_model(config), say=say))
-        if show:
-            bar.phase("sampling the results")
-        results = collect(result)
+        with announcing(say) as once:
+            result = run(config, progress=bar.update if show else None, model=first_run(build_model(config), say=once))
+            if show:
+                bar.phase("sampling the results")
+            results = collect(result)
         failure = None
         if path is not None:
             if show:

@@ -42,6 +42,7 @@ from . import beam
 from ._jit import jitable, kernel
 from .beam import wavenumber
 from .film import NO_FILM
+from .integrate.cumulative import cumulative_simpson
 from .link import section, spatial, spatial_section
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
@@ -225,20 +226,10 @@ def _cumulative(t, power):
     """``int`` of ``power`` from the first of the times ``t`` to each [J]: Simpson's rule on the (non-uniform)
     points, the trapezoid for two; a point at the time of the one before it (simultaneous impacts, a sample
     at an impact) adds nothing."""
-    from scipy.integrate import cumulative_simpson, cumulative_trapezoid
-
     if t.size < 2:
         return np.zeros(power.shape)
-    steps = np.diff(t)
-    keep = np.r_[True, steps > 0.0]
-    if keep.all() and np.ptp(steps) <= 1e-9 * steps[0]:  # uniform samples: SciPy's faster equal-step rule
-        return cumulative_simpson(power, dx=float(steps.mean()), initial=0.0) if t.size > 2 else \
-            cumulative_trapezoid(power, t, initial=0.0)
-    tu, pu = t[keep], power[..., keep]
-    if tu.size < 3:
-        work = cumulative_trapezoid(pu, tu, initial=0.0)
-    else:
-        work = cumulative_simpson(pu, x=tu, initial=0.0)
+    keep = np.r_[True, np.diff(t) > 0.0]
+    work = cumulative_simpson(power[..., keep], t[keep])
     return work[..., np.cumsum(keep) - 1]
 
 

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -15,7 +16,7 @@ from . import integrate
 from .config import resolve
 from .contact import ContactLogic
 from ._jit import compile_errors
-from ._prewarm import first_run
+from ._prewarm import announcing, first_run
 from .assembly import compile_failed
 from .build import build_model
 from .errors import BackendError
@@ -23,6 +24,8 @@ from .choice import method_choice, method_name
 from .params import sample_times
 from .results import Run, to_dataset
 from .beam import wavenumbers
+
+_log = logging.getLogger("lubelink")
 
 __all__ = ["simulate", "Run", "run", "to_dataset", "sample_times", "event_resolution", "method_name", "method_choice"]
 
@@ -282,16 +285,17 @@ def simulate(source="paper", set=None, *, motion=None, progress=False, section=N
         For invalid parameters, before anything is computed.
     """
     config = resolve(source, set)
-    model = first_run(build_model(config, motion, section), motion)
-    if progress is True:  # tqdm's bar on a terminal, a line at the start and the end in a log
-        from .progress import Bar
+    with announcing(lambda line: _log.warning("lubelink: %s", line)) as once:
+        model = first_run(build_model(config, motion, section), motion, say=once)
+        if progress is True:  # tqdm's bar on a terminal, a line at the start and the end in a log
+            from .progress import Bar
 
-        with Bar(config.solver.t_end, "simulating", "s", unit_scale=True, leave=False, mininterval=0.25) as bar:
-            bar.stage(f"{config.solver.t_end:g} s of motion")
-            result = run(config, motion, bar.advance_to, model=model)
-    else:
-        result = run(config, motion, progress or None, model=model)
-    ds = to_dataset(result)
+            with Bar(config.solver.t_end, "simulating", "s", unit_scale=True, leave=False, mininterval=0.25) as bar:
+                bar.stage(f"{config.solver.t_end:g} s of motion")
+                result = run(config, motion, bar.advance_to, model=model)
+        else:
+            result = run(config, motion, progress or None, model=model)
+        ds = to_dataset(result)
     if ds.attrs["contact_warning"]:
         import warnings
 

@@ -1,11 +1,12 @@
 """Compile every kernel once (or load it from the on-disk cache): ``lubelink compile``.
 
 The first run in a new environment compiles the kernels it needs, which takes tens of seconds;
-they are cached on disk (:mod:`lubelink._jit`) and every configuration shares them (the
-parameter structure has the same types whatever the planar configuration), so this is paid once per
-installation (the spatial model's parameters have a type of their own: its kernels and methods
-are compiled once more). :func:`compile_all` pays it up front: before a test session, on each worker of a
-cluster, or in a container image.
+they are cached on disk (:mod:`lubelink._jit`) and shared by every configuration whose parameters
+have the same types: the values do not matter, but an option that adds or removes a table does
+(a cavitation grid, rough surfaces, a contact law, the spatial link). :func:`compile_all` pays it
+up front for every compiled method and every built-in scenario: before a test session, on each
+worker of a cluster, or in a container image; ``tests/test_warmup.py`` checks that nothing a
+built-in scenario or the steady-state commands run compiles after it.
 """
 
 from __future__ import annotations
@@ -27,9 +28,9 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
         ``progress(message)`` before each step.
     """
     from . import _jit
-    from ._prewarm import compile_on_two_cores
+    from ._prewarm import compile_on_two_cores, compile_results
     from .build import build_model
-    from .config import resolve
+    from .config import SCENARIOS, resolve
     from .results import to_dataset
     from .simulate import run
 
@@ -57,4 +58,14 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
         spatial = run(resolve("spatial-slider-crank", {"beam.modes": 2, "solver.method": method, "solver.t_end": 2e-3,
                                                        "solver.output_step": 1e-3}))
     to_dataset(spatial)
+    # every built-in scenario: a film option given or not (a cavitation table, rough surfaces, a contact law) changes
+    # the parameters' type, and with it the kernels and the method its "auto" chooses
+    for name in SCENARIOS:
+        if progress:
+            progress(f"compiling the scenario {name}")
+        config = resolve(name, {"solver.t_end": 2e-3, "solver.output_step": 1e-3})
+        model = build_model(config)
+        compile_on_two_cores(model)
+        run(config, model=model)
+        compile_results(model)
     return time.perf_counter() - start
