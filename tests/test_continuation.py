@@ -64,6 +64,74 @@ def test_period_doubling_and_neimark_sacker_crossings():
     assert abs(np.angle(b.multiplier)) == pytest.approx(1.0, abs=1e-6)
 
 
+def test_a_multiplier_within_its_accuracy_of_the_circle_is_neither_stable_nor_a_crossing():
+    """Issue 36: the stability test and the crossings use each multiplier's accuracy estimate as margin.
+
+    A rotation by 1 rad scaled by ``lam`` whose map gives, as its check, a Jacobian off by ``e``: the
+    multipliers' estimates are then about ``e``, the orbits within ``e`` of ``lam = 1`` are undecided,
+    and the crossing is reported once, located within ``e``. A pair that wobbles by ``e / 2`` about
+    the circle (its moduli ``1 +- e/2`` alternately) is never stable and never a crossing; with a
+    margin of rounding it would cross at every point."""
+    c, s = math.cos(1.0), math.sin(1.0)
+    R = np.array([[c, -s], [s, c]])
+    e = 1e-4
+
+    def family(modulus):
+        def at(lam):
+            def fmap(y, jacobian=False):
+                J = modulus(lam) * R
+                check = J @ (np.eye(2) + e * np.array([[1.0, 0.3], [0.0, 1.0]])) if jacobian == "checked" else None
+                return MapValue(J @ y, J if jacobian else None, {}, check)
+
+            return fmap
+
+        return at
+
+    branch = continue_branch(family(lambda lam: lam), np.zeros(2), 0.8, 1.3, ones)
+    (b,) = branch.bifurcations
+    assert b.kind == "Neimark-Sacker (complex pair)" and b.parameter == pytest.approx(1.0, abs=2 * e)
+    for p in branch.points:
+        assert np.all(p.errors > 0.5 * e) and np.all(p.errors < 2 * e)
+        undecided = abs(p.parameter - 1.0) <= p.errors[0]
+        assert p.stable == (p.parameter < 1.0 and not undecided)
+    wobble = family(lambda lam: 1.0 + 0.5 * e * math.cos(200.0 * lam))
+    branch = continue_branch(wobble, np.zeros(2), 0.0, 1.0, ones)
+    assert branch.status == "complete" and len(branch.points) > 20
+    assert branch.bifurcations == [] and not any(p.stable for p in branch.points)
+    moduli = [abs(p.multipliers[0]) for p in branch.points]
+    assert min(moduli) < 1.0 - 1e-5 and max(moduli) > 1.0 + 1e-5  # both sides of the circle, beyond rounding
+
+
+def test_undamped_dry_branch_has_no_bifurcation_and_no_stable_orbit():
+    """Issue 36: ``paper-dry`` without damping from 5 rad/s reported six Neimark-Sacker bifurcations by 5.2
+    rad/s, called orbits stable and stopped with a "fold" at 5.293 rad/s (finite differences of fixed
+    step 1e-5 on a map integrated at rtol 1e-10: moduli 8e-6 off). The link is linear and undamped:
+    ``tr J = 0`` so ``det M = 1`` (Liouville), and its one mode's pair is complex conjugate on the
+    circle, ``|mu| = 1`` exactly, except in a parametric resonance tongue, none of which is wide
+    enough to be met here. Between 5 and 5.35 rad/s the pair passes +1 twice (``omega_1 / 29 =
+    5.1105``, ``omega_1 / 28 = 5.2930``: resonances of the 29th and 28th harmonics, poles of the
+    response) and -1 once (``2 omega_1 / 57 = 5.2002``) without leaving the circle. The moduli's
+    errors must stay within their estimates; no orbit is stable; nothing is a bifurcation but a
+    resonance, at ``omega_1 / k``; and the branch goes on past the poles (the 29th harmonic's is too
+    narrow to be met at all)."""
+    w1 = 148.20524632103607
+    for jacobian in ("auto", "finite-difference"):
+        ds = continuation("paper-dry", {"beam.damping_ratio": 0.0}, start=5.0, stop=5.35, jacobian=jacobian)
+        assert ds.attrs["status"] == "complete", ds.attrs["message"]
+        assert not ds.stable.values.any()
+        for kind, lam in zip(ds.bifurcation_type.values, ds.bifurcation_parameter.values):
+            assert kind == 4, ds.attrs["bifurcations"]  # resonance (+1 on the circle)
+            assert lam == pytest.approx(w1 / round(w1 / lam), abs=1e-4)
+        error = np.abs(ds.floquet_modulus.values - 1.0)
+        assert np.all(error <= ds.floquet_error.values), (jacobian, np.max(error / ds.floquet_error.values))
+        assert np.max(ds.floquet_error.values) < (1e-6 if jacobian == "finite-difference" else 1e-7)
+        # the argument of the pair is omega_1 T mod 2 pi (less a few 1e-4 rad: the centrifugal -omega(t)^2
+        # lowers the frequency a little): it passes 0 and pi in this stretch
+        expected = np.angle(np.exp(2j * np.pi * w1 / ds.parameter.values))
+        np.testing.assert_allclose(np.abs(ds.floquet_argument.values[:, 0]), np.abs(expected), atol=1e-3)
+        assert np.any(np.abs(expected) < 0.1) and np.any(np.abs(expected) > np.pi - 0.1)
+
+
 # ----------------------------------------------------------------------------- lubelink's response curves
 def test_continuation_passes_a_resonance_and_comes_back_to_the_same_branch():
     settings = {"beam.damping_ratio": 0.02}

@@ -75,7 +75,10 @@ def test_floquet_moduli_of_the_damped_linear_link(modes, jacobian):
     assert orbit.jacobian == ("variational" if jacobian == "auto" else "finite-difference")
     w = orbit.period_map.model.omega_n
     expected = np.sort(np.repeat(np.exp(-zeta * w * orbit.period), 2))[::-1]
-    np.testing.assert_allclose(np.abs(orbit.multipliers), expected, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(np.abs(orbit.multipliers), expected, rtol=0, atol=1e-7)
+    # each multiplier's accuracy estimate bounds its error, and is not uselessly large
+    assert np.all(np.abs(np.abs(orbit.multipliers) - expected) <= orbit.multiplier_errors)
+    assert np.all(orbit.multiplier_errors < 1e-6)
     assert orbit.stable
 
 
@@ -97,6 +100,22 @@ def test_exact_periodic_response_as_damping_goes_to_zero():
     # docs/model.md §10.3: the exact periodic response of the 1-mode model peaks at 2.1055 mm
     assert peaks[0.0] == pytest.approx(2.1055e-3, abs=1e-7)
     assert abs(peaks[1e-3] - peaks[0.0]) < abs(peaks[1e-2] - peaks[0.0]) < 1e-6
+
+
+@pytest.mark.parametrize("jacobian, bound", [("variational", 1e-7), ("finite-difference", 1e-6)])
+def test_undamped_multipliers_are_on_the_circle_within_their_accuracy(jacobian, bound):
+    """Issue 36: at 5.04 rad/s (a period of 1.25 s) differences of fixed step 1e-5 on the map at rtol 1e-10
+    gave moduli 8.4e-6 from 1. The undamped linear link's one pair is on the circle exactly (``det M
+    = 1``: ``tr J = 0``, Liouville; a complex pair): its moduli's distance from 1 is their error, which
+    the estimate must bound; the differences' step and tolerance now follow an error balance."""
+    ds = periodic("paper-dry", {"beam.damping_ratio": 0.0, "mechanism.crank_speed": 5.04}, jacobian=jacobian)
+    assert ds.attrs["jacobian"] == jacobian
+    mu = ds.floquet_modulus.values * np.exp(1j * ds.floquet_argument.values)
+    assert abs(mu[0].imag) > 0.1 and mu[0] == pytest.approx(np.conj(mu[1]), abs=1e-12)  # a complex pair
+    error = np.abs(ds.floquet_modulus.values - 1.0)
+    assert np.all(error <= ds.floquet_error.values) and np.all(ds.floquet_error.values < bound)
+    assert np.max(error) < 0.1 * bound
+    assert ds.attrs["stable"] == 0 and ds.attrs["floquet_undecided"] == 2
 
 
 def test_no_periodic_response_is_reported_not_hidden():
@@ -202,7 +221,6 @@ def test_the_monodromy_from_the_models_jacobian_equals_the_differences():
     central differences (2n + 1): the same flow and monodromy matrix over a crank period, squeeze
     film with half-Sommerfeld cavitation and asperities, 2 modes."""
     from lubelink.build import build_model
-    from lubelink.steady.problem import _fast_rhs
     from lubelink.steady.variational import flow_with_jacobian
 
     cfg = resolve("lubricated", {"beam.modes": 2, "film.clearance": 1e-3})
@@ -213,8 +231,8 @@ def test_the_monodromy_from_the_models_jacobian_equals_the_differences():
     scale = np.array([1e-3, 1e-3, 0.1, 0.1])
     out = {}
     for jacobian in (True, False):
-        out[jacobian] = flow_with_jacobian(_fast_rhs(model), model.params, 0.0, y0, T, scale, rtol=1e-10,
-                                           atol=1e-13, jacobian=jacobian)
+        out[jacobian] = flow_with_jacobian(model.functions()[0], model.params, 0.0, y0, T, scale, rtol=1e-10,
+                                           atol=1e-13, jacobian=jacobian, p_type=model.params_type)
     np.testing.assert_allclose(out[True][0], out[False][0], rtol=0, atol=1e-11)
     M, M_fd = out[True][1], out[False][1]
     assert np.abs(M).max() > 0.1

@@ -128,11 +128,12 @@ def test_dry_spatial_slider_crank_monodromy_matches_an_independent_one():
     """Tilted crank: the spin ``w1`` about the link (0.11 rad/s) and ``alpha1`` (3.4 rad/s^2) couple u2 and u3,
     ``w3``, ``alpha3`` (2.2 rad/s, 69 rad/s^2) u1 and u2, with coefficients periodic in time. (``w2``,
     ``alpha2`` vanish for this mechanism: ``k . e1`` is constant, the crank pin moving in the plane normal
-    to ``k``.) The whole scaled monodromy matrix of the shooting (central differences of the compiled
-    map, DOP853 for one mode) equals the reference to 1e-7 (measured 2.3e-9), the coupling entries
-    included."""
+    to ``k``.) The whole scaled monodromy matrix of the shooting (the compiled variational equations;
+    before, central differences of the compiled map, DOP853 for one mode) equals the reference to 1e-7
+    (measured 2.3e-9 by differences), the coupling entries included."""
     cfg = resolve("spatial-slider-crank", {**ONE, "film.model": "none"})
     orbit = find_periodic(cfg)
+    assert orbit.jacobian == "variational"
     M = _ltp_monodromy(orbit.config, orbit.period)
     S = orbit.scale
     scaled = lambda A: A * S[None, :] / S[:, None]  # noqa: E731
@@ -151,7 +152,8 @@ def test_dry_spatial_slider_crank_monodromy_matches_an_independent_one():
     assert orbit.stable and abs(abs(ref[0]) - abs(ref[2])) < 1e-6 and abs(np.angle(ref[0]) - np.angle(ref[2])) > 1e-4
     # the exponential method steps over the free axial vibration that an axial difference starts: the in-plane
     # response to it is off by 2.5e-5 (scaled; measured), the multipliers still within 1e-7
-    fast = find_periodic(resolve("spatial-slider-crank", {**ONE, "film.model": "none", "solver.method": "exponential"}))
+    fast = find_periodic(resolve("spatial-slider-crank", {**ONE, "film.model": "none", "solver.method": "exponential"}),
+                         jacobian="finite-difference")
     off = np.abs(scaled(fast.monodromy) - scaled(M))
     axial = [0, 3]
     assert np.max(np.delete(off, axial, axis=1)) < 1e-7 and np.max(off[:, axial]) < 1e-4
@@ -226,7 +228,7 @@ def test_cli_periodic_and_continue_for_the_spatial_model(tmp_path, capsys):
     assert main(["periodic", "--scenario", "spatial-slider-crank", "--set", "beam.modes=1", "--set",
                  "beam.damping_ratio=0.02", "-o", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "peak |u3_mid|" in text and "stable" in text and "finite-difference" in text
+    assert "peak |u3_mid|" in text and "stable" in text and "variational" in text
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sp.nc"]  # written under a temporary name, renamed
     ds = lubelink.load(out)
     assert ds.attrs["stable"] == 1 and ds.sizes["multiplier"] == 6

@@ -14,9 +14,14 @@ A *family* is a callable ``family(lam) -> fmap`` giving the map at ``lam`` (``fm
   turns by more than ``max_angle`` is taken again at half length, so sharp resonance peaks are
   resolved; the parameter never moves by more than ``max_parameter_step`` in one step.
 
-Along the branch, the Floquet multipliers (eigenvalues of ``dP/dy``) mark each orbit stable or
-not, and between neighbours :func:`.floquet.crossing` reports a multiplier leaving or entering
-the unit circle; a sign change of ``dlam/ds`` is a fold. The branch ends exactly at ``lam_end``
+Along the branch, the Floquet multipliers (eigenvalues of ``dP/dy``) and their accuracy
+estimates (:func:`.floquet.multiplier_errors`, from a second, less accurate ``dP/dy`` at each
+orbit) mark each orbit stable or not, and :func:`.floquet.crossing` reports a multiplier leaving
+or entering the unit circle when the number outside certainly changes: against the range that
+every orbit since the last crossing allows, a multiplier within its accuracy of the circle
+counting either way. A sign change of ``dlam/ds`` is a fold. Where the orbits are neutral (their
+multipliers on the circle, an undamped linear link) and one passes +1, the response has a pole
+that no corrector step crosses: the branch jumps over it and records the resonance. The branch ends exactly at ``lam_end``
 (the last point is found by shooting at ``lam_end``), or earlier with a message saying why.
 Nothing here knows the model.
 """
@@ -41,7 +46,7 @@ class Point:
 
     ``y`` the fixed point, ``parameter`` the value of ``lam``, ``value`` the map there,
     ``jacobian`` ``dP/dy`` (the monodromy matrix) and how it was obtained, ``multipliers`` its
-    eigenvalues, ``tangent`` the unit tangent in scaled variables ``(y / scale, lam / lam_scale)``,
+    eigenvalues and ``errors`` their accuracy estimates, ``tangent`` the unit tangent in scaled variables ``(y / scale, lam / lam_scale)``,
     ``arclength`` the scaled arclength from the first point, ``iterations`` the corrector's
     steps, ``residual`` the scaled max norm of ``P(y) - y``, ``scale`` the state scale of the
     tangent.
@@ -58,10 +63,11 @@ class Point:
     iterations: int
     residual: float
     scale: np.ndarray
+    errors: np.ndarray = None
 
     @property
     def stable(self) -> bool:
-        return floquet.is_stable(self.multipliers)
+        return floquet.is_stable(self.multipliers, self.errors)
 
 
 @dataclass
@@ -76,7 +82,11 @@ class Bifurcation:
 
 @dataclass
 class Branch:
-    """The points of a branch, its bifurcations, and how it ended (``status``: ``"complete"`` or ``"stopped"``)."""
+    """The points of a branch, its bifurcations, and how it ended (``status``: ``"complete"`` or ``"stopped"``).
+
+    ``known``: the range of the number of multipliers outside the circle that every orbit since the
+    last crossing allows (:func:`.floquet.outside_range`).
+    """
 
     points: list
     bifurcations: list = field(default_factory=list)
@@ -85,6 +95,7 @@ class Branch:
     evaluations: int = 0
     wall_time: float = 0.0
     lam_scale: float = 1.0
+    known: tuple = None
 
 
 class _Stop(Exception):
@@ -97,7 +108,7 @@ class _Land(Exception):
 
 def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0.02, ds_min=1e-5, ds_max=0.1,
                     max_parameter_step=None, max_points=2000, tol=1e-9, max_corrector=10, max_angle=15.0,
-                    fd_step=1e-5, lam_step=1e-6, on_point=None):
+                    fd_step=None, lam_step=1e-6, on_point=None):
     """Follow the branch of fixed points of ``family(lam)`` from ``(y0, lam0)`` to ``lam = lam_end``.
 
     Parameters
@@ -127,7 +138,8 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
     max_angle : float
         Largest turn of the tangent in one step [degrees].
     fd_step, lam_step : float
-        Relative finite-difference steps in ``y`` (when the map gives no Jacobian) and ``lam``.
+        Relative finite-difference steps in ``y`` (when the map gives no Jacobian; default
+        :func:`~.shooting.difference_step` of the map's accuracy) and ``lam``.
     on_point : callable, optional
         ``on_point(point)`` for each :class:`Point` as it joins the branch.
 
@@ -151,18 +163,23 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
     cos_max = math.cos(math.radians(max_angle))
     counter = {"evaluations": 0}
 
-    def evaluate(y, lam, fmap=None, full=True):
-        """The map at (y, lam); with ``full``, also its Jacobian and dP/dlam."""
+    def evaluate(y, lam, fmap=None, full=True, shot=None):
+        """The map at (y, lam); with ``full``, also its Jacobian with its check and dP/dlam (``shot``: a
+        :class:`~.shooting.ShootingResult` at ``y`` that has the map and its Jacobian already)."""
         fmap = fmap or family(lam)
         if not full:
             counter["evaluations"] += 1
             return fmap(y, False)
-        value = fmap(y, True)
-        J, method, count = jacobian_of(fmap, y, value, scale_of_current[0], fd_step)
+        if shot is not None:
+            value, J, method, check, count = shot.value, shot.jacobian, shot.jacobian_method, shot.jacobian_check, 0
+        else:
+            value = fmap(y, "checked")
+            J, method, count, check = jacobian_of(fmap, y, value, scale_of_current[0], fd_step, check=True)
+            count += 1
         h = lam_step * max(abs(lam), lam_scale)
         P_lam = (family(lam + h)(y, False).y - value.y) / h
-        counter["evaluations"] += 2 + count
-        return value, J, method, P_lam
+        counter["evaluations"] += 1 + count
+        return value, (J, check), method, P_lam
 
     # --- the first point: shooting at lam0 ----------------------------------------------------------
     fmap0 = family(lam0)
@@ -170,20 +187,19 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
     first = shoot(fmap0, y0, scale_of(y0, None), tol=tol, fd_step=fd_step, what=f"the periodic response at {lam0:.6g}")
     counter["evaluations"] += first.evaluations
     scale_of_current = [scale_of(first.y, first.value)]
-    value, J, method, P_lam = evaluate(first.y, lam0, fmap0)
+    value, (J, check), method, P_lam = evaluate(first.y, lam0, fmap0, shot=first)
     S = scale_of_current[0]
     t0 = np.zeros(first.y.size + 1)
     t0[-1] = direction
     tangent = _tangent(J, P_lam, S, lam_scale, t0)
     last_P_lam = [P_lam]
-    points = [Point(lam0, first.y, value, J, method, floquet.multipliers(J), tangent, 0.0, first.iterations,
-                    first.residual, S)]
-    branch = Branch(points, lam_scale=lam_scale)
+    points = [_point(lam0, first.y, value, J, check, method, tangent, 0.0, first.iterations, first.residual, S)]
+    branch = Branch(points, lam_scale=lam_scale, known=floquet.outside_range(points[0].multipliers, points[0].errors))
     if on_point:
         on_point(points[0])
 
     # --- along the branch ----------------------------------------------------------------------------
-    ds = float(ds)
+    ds = ds0 = float(ds)
     try:
         while True:
             if len(points) >= max_points:
@@ -203,7 +219,7 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
                     raise _Land()
                 found, why = _correct(evaluate, u_pred, t, chord, S, lam_scale, tol, max_corrector)
                 if found is not None:
-                    u, value, J, method, P_lam, iterations, res = found
+                    u, value, (J, check), method, P_lam, iterations, res = found
                     new_t = _tangent(J, P_lam, S, lam_scale, t)
                     cos = float(new_t @ t)
                     if cos < cos_max and ds > ds_min:
@@ -211,12 +227,24 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
                 if found is None:
                     ds *= 0.5
                     if ds < ds_min:
-                        raise _Stop(f"the corrector failed at {lam_pred:.6g} with the smallest step "
-                                    f"(ds_min = {ds_min:g}): {why}")
+                        jumped = _resonance_jump(branch, family, tol, fd_step, S, lam_scale, direction, evaluate)
+                        if jumped is None:
+                            raise _Stop(f"the corrector failed at {lam_pred:.6g} with the smallest step "
+                                        f"(ds_min = {ds_min:g}): {why}")
+                        found = jumped
+            if isinstance(found, Point):  # across a resonance of a neutral orbit
+                last_P_lam[0] = found.value.info.pop("P_lam")
+                points.append(found)
+                branch.known = floquet.outside_range(found.multipliers, found.errors)
+                scale_of_current[0] = scale_of(found.y, found.value)
+                if on_point:
+                    on_point(found)
+                ds = ds0
+                continue
             lam = u[-1] * lam_scale
             y = u[:-1] * S
             arc = last.arclength + float(np.linalg.norm(u - u_last))
-            point = Point(lam, y, value, J, method, floquet.multipliers(J), new_t, arc, iterations, res, S)
+            point = _point(lam, y, value, J, check, method, new_t, arc, iterations, res, S)
             last_P_lam[0] = P_lam
             _detect(branch, point)
             points.append(point)
@@ -240,6 +268,11 @@ def continue_branch(family, y0, lam0, lam_end, scale_of, *, lam_scale=None, ds=0
     if branch.status == "complete":
         branch.message = f"reached {lam_end:.6g}"
     return branch
+
+
+def _point(lam, y, value, J, check, method, tangent, arc, iterations, res, S):
+    mu = floquet.multipliers(J)
+    return Point(lam, y, value, J, method, mu, tangent, arc, iterations, res, S, floquet.multiplier_errors(mu, check))
 
 
 def _rescaled(t, old, new):
@@ -311,10 +344,66 @@ def _detect(branch, point):
     if fold:
         branch.bifurcations.append(Bifurcation(floquet.KINDS[0], index,
                                                _fold_parameter(last, point, branch.lam_scale), complex(1.0, 0.0)))
-    c = floquet.crossing(last.multipliers, point.multipliers)
+    c = floquet.crossing(last.multipliers, point.multipliers, last.errors, margin_b=point.errors, known=branch.known)
+    here = floquet.outside_range(point.multipliers, point.errors)
+    if c is not None or branch.known is None:
+        branch.known = here
+    else:  # what every orbit since the last crossing allows
+        branch.known = (max(branch.known[0], here[0]), min(branch.known[1], here[1]))
     if c is not None and not (fold and c.kind == floquet.KINDS[1]):
         lam = last.parameter + c.fraction * (point.parameter - last.parameter)
         branch.bifurcations.append(Bifurcation(c.kind, index, lam, c.multiplier))
+
+
+def _resonance_jump(branch, family, tol, fd_step, S, lam_scale, direction, evaluate):
+    """The orbit beyond a resonance of a neutral orbit, where the corrector failed, or None.
+
+    A branch of orbits whose multipliers lie on the unit circle (an undamped linear link) has a
+    pole where one of them passes +1 (``k omega0 = omega_n``: the response to the ``k``-th
+    harmonic grows without bound), which no step of the corrector crosses. When the last orbit has
+    a complex multiplier on the circle (within its accuracy) near +1, the parameter where its
+    argument reaches 0 is extrapolated from an earlier orbit (the farthest of the last ten), the
+    orbit as far beyond the pole as that one lay before it is found by shooting, and the branch
+    goes on from it; the resonance is recorded (replacing any fold that
+    the approach to the pole made the tangent report there).
+    """
+    pts = branch.points
+    last = pts[-1]
+    k = int(np.argmin(np.abs(last.multipliers - 1.0)))
+    mu, err = last.multipliers[k], last.errors[k]
+    if abs(abs(mu) - 1.0) > err or abs(mu - 1.0) > 0.05 or abs(mu.imag) <= err or len(pts) < 3:
+        return None
+    theta = abs(np.angle(mu))
+    earlier = [p for p in pts[-10:-1] if abs(p.parameter - last.parameter) > 0]
+    if not earlier:
+        return None
+    p = max(earlier, key=lambda p: abs(p.parameter - last.parameter))
+    theta_p = float(np.min(np.abs(np.angle(p.multipliers[np.abs(p.multipliers - 1.0) < 0.5])), initial=np.inf))
+    if not theta_p > theta:
+        return None
+    lam_k = last.parameter - theta * (p.parameter - last.parameter) / (theta_p - theta)
+    if (lam_k - last.parameter) * direction < 0:
+        return None
+    d = max(abs(lam_k - p.parameter), 1e-9 * lam_scale)  # as far beyond as the earlier orbit lay before
+    lam = lam_k + direction * d
+    try:
+        fmap = family(lam)
+        r = shoot(fmap, last.y, S, tol=tol, fd_step=fd_step, what=f"the periodic response at {lam:.6g}")
+        value, (J, check), method, P_lam = evaluate(r.y, lam, fmap, shot=r)
+    except (ShootingError, MapFailure, ValueError):
+        return None
+    t0 = np.zeros(last.y.size + 1)
+    t0[-1] = direction
+    u_last = np.concatenate([last.y / S, [last.parameter / lam_scale]])
+    u = np.concatenate([r.y / S, [lam / lam_scale]])
+    point = _point(lam, r.y, value, J, check, method, _tangent(J, P_lam, S, lam_scale, t0),
+                   last.arclength + float(np.linalg.norm(u - u_last)), r.iterations, r.residual, S)
+    value.info["P_lam"] = P_lam
+    near = 2.0 * max(abs(q.parameter - lam_k) for q in pts[-3:])
+    branch.bifurcations = [b for b in branch.bifurcations
+                           if not (b.kind == floquet.KINDS[0] and abs(b.parameter - lam_k) <= near)]
+    branch.bifurcations.append(Bifurcation(floquet.KINDS[4], len(pts), float(lam_k), complex(1.0, 0.0)))
+    return point
 
 
 def _fold_parameter(a, b, lam_scale):
@@ -348,11 +437,11 @@ def _land(branch, family, lam_end, tol, fd_step, S, lam_scale, evaluate, counter
         branch.status, branch.message = "stopped", f"the last point, at {lam_end:.6g}, was not found: {exc}"
         return
     counter["evaluations"] += r.evaluations
-    value, J, method, P_lam = evaluate(r.y, lam_end, fmap)
+    value, (J, check), method, P_lam = evaluate(r.y, lam_end, fmap, shot=r)
     tangent = _tangent(J, P_lam, S, lam_scale, _rescaled(last.tangent, last.scale, S))
     u_last = np.concatenate([last.y / S, [last.parameter / lam_scale]])
     u = np.concatenate([r.y / S, [lam_end / lam_scale]])
-    point = Point(lam_end, r.y, value, J, method, floquet.multipliers(J), tangent,
-                  last.arclength + float(np.linalg.norm(u - u_last)), r.iterations, r.residual, S)
+    point = _point(lam_end, r.y, value, J, check, method, tangent, last.arclength + float(np.linalg.norm(u - u_last)),
+                   r.iterations, r.residual, S)
     _detect(branch, point)
     branch.points.append(point)

@@ -37,8 +37,10 @@ BRANCH_VARIABLES = {
     "impact_count": Variable(("point",), "1", "contact events (impacts) in the period"),
     "floquet_modulus": Variable(("point", "multiplier"), "1", "modulus of the Floquet multiplier"),
     "floquet_argument": Variable(("point", "multiplier"), "rad", "argument of the Floquet multiplier"),
+    "floquet_error": Variable(("point", "multiplier"), "1", "accuracy estimate of the Floquet multiplier"),
     "max_modulus": Variable(("point",), "1", "largest modulus of the Floquet multipliers"),
-    "stable": Variable(("point",), "1", "1 if every Floquet multiplier is inside the unit circle, else 0"),
+    "stable": Variable(("point",), "1", "1 if every Floquet multiplier is inside the unit circle by more than its "
+                                        "accuracy estimate, else 0"),
     "omega_n": Variable(("point", "mode"), "rad s-1", "natural circular frequency"),
     "arclength": Variable(("point",), "1", "scaled arclength along the branch"),
     "iterations": Variable(("point",), "1", "Newton steps of the corrector"),
@@ -65,7 +67,8 @@ SPATIAL_BRANCH_VARIABLES = {
 
 #: ``bifurcation_type`` codes (CF ``flag_values``/``flag_meanings``).
 BIFURCATION_CODES = {kind: i for i, kind in enumerate(floquet.KINDS)}
-_FLAG_MEANINGS = "fold branch_point_plus_one period_doubling_minus_one neimark_sacker_complex_pair"
+_FLAG_MEANINGS = ("fold branch_point_plus_one period_doubling_minus_one neimark_sacker_complex_pair "
+                  "resonance_plus_one_on_circle")
 
 
 def _summary(pmap, value):
@@ -106,7 +109,7 @@ def _state_scale(y, samples, period):
 
 
 def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, motion=None, period=None, periods=1,
-                y0=None, warmup=0, jacobian="finite-difference", samples=256, ds=0.02, ds_max=0.1, max_parameter_step=None,
+                y0=None, warmup=0, jacobian="auto", samples=256, ds=0.02, ds_max=0.1, max_parameter_step=None,
                 max_points=2000, tol=1e-9, max_angle=15.0, progress=None):
     """``(branch, summaries, family)``: the periodic responses of ``config`` as ``parameter`` goes to ``stop``.
 
@@ -127,9 +130,11 @@ def find_branch(config, stop, parameter="mechanism.crank_speed", *, start=None, 
         Initial guess at ``start`` (default rest) and periods of transient before shooting; the
         first orbit is found by :func:`~.orbit.find_periodic` (with its restarts).
     jacobian : str
-        As for :func:`~.orbit.find_periodic`, but ``"finite-difference"`` by default: the
-        ``4N`` compiled runs of one period are several times faster than the variational
-        equations (integrated in Python), and accurate enough to tell stable from unstable.
+        As for :func:`~.orbit.find_periodic`: ``"auto"``, the variational equations (compiled)
+        in a smooth period, differences of the map where an impact occurs. (Until the variational
+        equations were compiled the default was ``"finite-difference"``, whose fixed step of
+        ``1e-5`` against a map integrated at ``rtol = 1e-10`` put errors of ``1e-5`` in the
+        multipliers and false Neimark-Sacker crossings on the undamped link.)
     samples : int
         Samples per period of each orbit for its summary (peak deflection, thinnest film).
     ds, ds_max, max_parameter_step, max_points, tol, max_angle
@@ -219,6 +224,7 @@ def branch_results(branch, summaries, family):
         "impact_count": _entry("impact_count", col("impact_count").astype(np.int32)),
         "floquet_modulus": _entry("floquet_modulus", np.abs(mu)),
         "floquet_argument": _entry("floquet_argument", np.angle(mu)),
+        "floquet_error": _entry("floquet_error", np.array([p.errors for p in pts]).reshape(len(pts), n)),
         "max_modulus": _entry("max_modulus", np.abs(mu).max(axis=1)),
         "stable": _entry("stable", np.array([int(p.stable) for p in pts], dtype=np.int8)),
         "omega_n": _entry("omega_n", np.array([s["omega_n"] for s in summaries]).reshape(len(pts), N)),
@@ -277,7 +283,7 @@ def _parameter_units(name):
 
 
 def continuation(source="paper", set=None, *, stop, parameter="mechanism.crank_speed", start=None, motion=None,
-                 period=None, periods=1, y0=None, warmup=0, jacobian="finite-difference", ds=0.02, ds_max=0.1,
+                 period=None, periods=1, y0=None, warmup=0, jacobian="auto", ds=0.02, ds_max=0.1,
                  max_parameter_step=None, max_points=2000, tol=1e-9, max_angle=15.0, progress=None):
     """The response curve: periodic responses and their stability as a parameter varies.
 
@@ -303,7 +309,8 @@ def continuation(source="paper", set=None, *, stop, parameter="mechanism.crank_s
     xarray.Dataset
         Over ``point``: ``parameter``, ``period``, ``q0``/``q_dot0`` (the periodic state at
         t = 0), ``peak_u2_mid``, ``peak_q``, ``min_film``, ``impact_count``,
-        ``floquet_modulus``/``floquet_argument`` (over ``multiplier``), ``max_modulus``,
+        ``floquet_modulus``/``floquet_argument``/``floquet_error`` (over ``multiplier``; the last
+        the accuracy estimate that the stability and the crossings use as margin), ``max_modulus``,
         ``stable``; over ``bifurcation``: ``bifurcation_type`` (see ``flag_meanings``),
         ``bifurcation_parameter``, ``bifurcation_point``; for the spatial model (``q0``,
         ``q_dot0``, ``peak_q``, ``omega_n``: the in-plane modes) also ``q1_0``, ``q1_dot0``,

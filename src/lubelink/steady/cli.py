@@ -57,7 +57,7 @@ def register_cli(subparsers, add_config_args):
                    help="branch file (default: <scenario or config name>-branch.nc here)")
     p.add_argument("--figure", metavar="FILE.png", help="also draw the response curve")
     p.add_argument("--overwrite", action="store_true", help="replace existing files")
-    _common(p, "finite-difference")
+    _common(p, "auto")
     p.set_defaults(handler=_cmd_continue)
 
     p = subparsers.add_parser(
@@ -183,12 +183,13 @@ def _cmd_periodic(args):
         a = r.attrs
         u = np.abs(r["u2_mid"])
         i = int(np.argmax(u))
-        # the multipliers' accuracy: ~1e-8 for the planar model; the spatial model's undamped axial multipliers
-        # come out with moduli within ~5e-6 of 1 by differences (docs/periodic.md, "The spatial model")
-        band = 1e-5 if orbit.period_map.spatial else 1e-6
-        stable = ("stable" if orbit.stable else
-                  f"not asymptotically stable (a multiplier on the unit circle, to {band:.0e})"
-                  if abs(a["floquet_max_modulus"] - 1) < band else "unstable")
+        # a multiplier within its accuracy estimate of the unit circle is on it, as far as can be told
+        from . import floquet
+
+        mu, err = orbit.multipliers, orbit.multiplier_errors
+        on = np.abs(np.abs(mu) - 1.0) <= err
+        stable = ("stable" if orbit.stable else "unstable" if floquet.outside(mu, err) else
+                  f"not asymptotically stable (a multiplier on the unit circle, to its accuracy {np.max(err[on]):.1e})")
         rows = [("source", str(source)),
                 ("period", f"{orbit.period:.6g} s" + (f" ({args.periods} crank turns)" if args.periods > 1 else "")),
                 ("newton", f"{orbit.iterations} step(s) after {orbit.warmup} period(s) of transient; residual "

@@ -27,6 +27,8 @@ FLOQUET_VARIABLES = {
     "multiplier": Variable(("multiplier",), "1", "Floquet multiplier, largest modulus first"),
     "floquet_modulus": Variable(("multiplier",), "1", "modulus of the Floquet multiplier"),
     "floquet_argument": Variable(("multiplier",), "rad", "argument of the Floquet multiplier, in (-pi, pi]"),
+    "floquet_error": Variable(("multiplier",), "1", "accuracy estimate of the Floquet multiplier (its distance from "
+                                                     "the same multiplier of a less accurate monodromy matrix)"),
 }
 
 #: What a periodic response of the spatial model adds (``beam.model = "spatial"``): the modal
@@ -62,6 +64,8 @@ class PeriodicOrbit:
         ``dy(T)/dy0`` [-].
     multipliers : ndarray
         Floquet multipliers (its eigenvalues), largest modulus first [-].
+    multiplier_errors : ndarray
+        Accuracy estimate of each multiplier [-] (:func:`.floquet.multiplier_errors`).
     jacobian : str
         How the monodromy matrix was obtained: ``"variational"`` or ``"finite-difference"``.
     residual : float
@@ -87,6 +91,7 @@ class PeriodicOrbit:
     y0: np.ndarray
     monodromy: np.ndarray
     multipliers: np.ndarray
+    multiplier_errors: np.ndarray
     jacobian: str
     residual: float
     iterations: int
@@ -99,8 +104,8 @@ class PeriodicOrbit:
 
     @property
     def stable(self) -> bool:
-        """Asymptotically stable: every multiplier inside the unit circle."""
-        return floquet.is_stable(self.multipliers)
+        """Asymptotically stable: every multiplier inside the unit circle by more than its accuracy estimate."""
+        return floquet.is_stable(self.multipliers, self.multiplier_errors)
 
 
 def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmup=0, restarts=2, jacobian="auto",
@@ -164,7 +169,8 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
             if attempt == restarts:
                 raise ShootingError(f"{exc} [{attempt + 1} attempt(s), after {done} periods of transient]") from None
     mu = floquet.multipliers(r.jacobian)
-    return PeriodicOrbit(pmap.config, pmap.period, r.y, r.jacobian, mu, r.jacobian_method, r.residual,
+    err = floquet.multiplier_errors(mu, r.jacobian_check)
+    return PeriodicOrbit(pmap.config, pmap.period, r.y, r.jacobian, mu, err, r.jacobian_method, r.residual,
                          r.iterations, r.history, scale, pmap, r.evaluations, time.perf_counter() - began, done)
 
 
@@ -206,6 +212,7 @@ def orbit_results(orbit: PeriodicOrbit, output_step=None):
     coords["multiplier"] = _entry("multiplier", np.arange(1, mu.size + 1))
     data["floquet_modulus"] = _entry("floquet_modulus", np.abs(mu))
     data["floquet_argument"] = _entry("floquet_argument", np.angle(mu))
+    data["floquet_error"] = _entry("floquet_error", orbit.multiplier_errors)
     if orbit.period_map.spatial:
         _add_spatial(data, r.y, orbit)
     attrs = dict(res.attrs)
@@ -222,6 +229,7 @@ def orbit_results(orbit: PeriodicOrbit, output_step=None):
         "stable": int(orbit.stable),
         "jacobian": orbit.jacobian,
         "floquet_max_modulus": floquet.max_modulus(mu),
+        "floquet_undecided": floquet.undecided(mu, orbit.multiplier_errors),
         "newton_residuals": ", ".join(f"{h:.3g}" for h in orbit.history),
         "map_evaluations": orbit.evaluations,
         "warmup_periods": orbit.warmup,
@@ -296,11 +304,12 @@ def periodic(source="paper", set=None, *, motion=None, period=None, periods=1, y
     -------
     xarray.Dataset
         One period (``time`` from 0 to ``T``) of the variables of :func:`lubelink.simulate`,
-        plus ``floquet_modulus(multiplier)`` and ``floquet_argument(multiplier)`` (and for the
+        plus ``floquet_modulus(multiplier)``, ``floquet_argument(multiplier)`` and
+        ``floquet_error(multiplier)``, each multiplier's accuracy estimate (and for the
         spatial model ``q1``, ``q3``, ``q1_dot``, ``q3_dot`` and ``floquet_direction``); attrs
         ``period`` [s], ``residual`` (scaled ``max |y(T) - y0|``; ``residual_q`` [m] and
         ``residual_q_dot`` [m/s] unscaled), ``iterations``, ``stable`` (1 if every multiplier is
-        inside the unit circle, else 0), ``jacobian``.
+        inside the unit circle by more than its accuracy estimate, else 0), ``jacobian``.
 
     Raises
     ------

@@ -16,7 +16,7 @@ from ..plots.units import log_scale
 __all__ = ["plot_branch", "figure_branch", "resonances"]
 
 _MARKERS = {0: ("o", "fold"), 1: ("s", "branch point (+1)"), 2: ("D", "period doubling (-1)"),
-            3: ("^", "Neimark-Sacker")}
+            3: ("^", "Neimark-Sacker"), 4: ("*", "resonance (neutral, +1)")}
 
 
 def resonances(ds, modes=(1,)):
@@ -58,7 +58,12 @@ def _mark_resonances(ax, found, min_gap=0.012, label_gap=0.04):
 
 
 def _state(ds, margin=1e-7):
-    """Per point: 1 stable, -1 unstable, 0 neutral (largest multiplier on the circle)."""
+    """Per point: 1 stable, -1 unstable, 0 neutral (a multiplier on the circle, within its accuracy
+    estimate ``floquet_error``; ``margin`` for a branch file without it)."""
+    if "floquet_error" in ds:
+        moduli, err = ds.floquet_modulus.values, ds.floquet_error.values
+        inside = np.all(moduli < 1.0 - err, axis=1)
+        return np.where(inside, 1, np.where(np.any(moduli > 1.0 + err, axis=1), -1, 0))
     m = ds.max_modulus.values
     return np.where(m < 1.0 - margin, 1, np.where(m > 1.0 + margin, -1, 0))
 

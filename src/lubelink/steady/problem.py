@@ -5,10 +5,12 @@ state ``y0`` (at t = 0) is the state one period later, computed by :func:`lubeli
 from ``y0``, so that film breakdown and impacts are handled by the same
 :class:`~lubelink.contact.ContactLogic` as in any run: a period with impacts is the composition of
 the smooth flows and the impact maps. Its Jacobian (the monodromy matrix) comes from the
-variational equations integrated with the state (:mod:`.variational`) when the period is smooth
-(no contact event in it), or is left to finite differences of the map (:mod:`.shooting`) when an
-event occurs, since the variational equations would then need the saltation matrix of every
-impact.
+variational equations integrated with the state (:mod:`.variational`, compiled) when the period is
+smooth (no contact event in it), or from central differences of the map (:meth:`PeriodMap.differences`)
+when an event occurs, since the variational equations would then need the saltation matrix of every
+impact. Asked for ``"checked"``, the map adds a second, less accurate matrix for the multipliers'
+accuracy estimates: the variational equations at :data:`CHECK_FACTOR` times the tolerances, or
+differences of twice the step.
 
 :class:`Family` is the map as a function of one parameter ``section.key``; the period follows the
 parameter (``T = 2 pi / |crank_speed|``), i.e. the map is taken over a fixed interval of crank
@@ -16,12 +18,10 @@ phase, so a change of crank speed changes the period of the map as well as the l
 
 The state is the model's whole integration state: ``[q, q_dot]`` (``2 N``) of the planar model,
 ``[q1, q2, q3, q1_t, q2_t, q3_t]`` (``6 N``) of the spatial one (``beam.model = "spatial"``,
-:mod:`lubelink.link.spatial_model`); nothing here depends on which. For the spatial model ``"auto"``
-takes the monodromy matrix by finite differences even in a smooth period: the variational
-equations are integrated in Python by an explicit method, whose step the axial modes (8 krad/s
-and up with the free axial end, 16 with the fixed one) limit, while the map itself runs compiled (the
-configuration's ``solver.method``; docs/periodic.md, "The spatial model", compares the accuracy of the
-differences under the exponential method and under DOP853).
+:mod:`lubelink.link.spatial_model`); nothing here depends on which. (Until the variational
+equations were compiled, ``"auto"`` took differences for the spatial model, whose axial modes
+hold an explicit method to short steps: compiled, the variational equations of the dry spatial
+link with one mode take 0.15 s against 1.7 s for the checked differences.)
 
 Shooting tightens the solver tolerances to at least ``rtol = 1e-10``, ``atol = 1e-13`` [m, m/s]:
 Newton's method and the finite-difference Jacobians need a map accurate well beyond plotting.
@@ -36,36 +36,35 @@ import numpy as np
 
 from .shooting import MapFailure, MapValue
 
-__all__ = ["PeriodMap", "Family", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATOL", "JACOBIANS"]
+__all__ = ["PeriodMap", "Family", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATOL", "DIFFERENCE_RTOL",
+           "DIFFERENCE_ATOL", "CHECK_FACTOR", "JACOBIANS"]
 
 #: Loosest tolerances of the map's integration (a configuration's tighter ones are kept).
 SHOOTING_RTOL = 1e-10
 SHOOTING_ATOL = 1e-13
+#: Tolerances of the runs whose differences give a monodromy matrix: the map's error ``delta``
+#: (about ``rtol`` of the scale) enters a central difference of step ``h`` as ``delta / h``, its
+#: truncation as ``h^2``; at ``rtol = 1e-12`` the balanced step is ``1.4e-4`` of the scale and both
+#: errors about ``1e-8``, where the map's own ``1e-10`` gave ``7e-4`` and ``1.5e-7``.
+DIFFERENCE_RTOL = 1e-12
+DIFFERENCE_ATOL = 1e-15
+#: The check of a monodromy matrix from the variational equations (:func:`.floquet.multiplier_errors`):
+#: integrated again at this many times the tolerances, its difference from the first divided by the
+#: square root of this factor. That assumes an error falling at least as the square root of the
+#: tolerance; DOP853's falls about in proportion to it (undamped ``paper-dry`` at 5.04 rad/s: 4.6e-7
+#: at 100 times the tolerance, 5.8e-10 at it), so the estimate is an upper one.
+CHECK_FACTOR = 100.0
+#: Tolerance of the variational equations for the Jacobians of Newton's steps (not of the
+#: multipliers): Newton's method needs the direction, not the last digits.
+NEWTON_RTOL = 1e-7
 #: How the monodromy matrix is obtained: ``"auto"`` (variational equations when no contact event
-#: occurs in the period, else finite differences; always finite differences for the spatial model),
-#: ``"variational"``, ``"finite-difference"``.
+#: occurs in the period, else finite differences), ``"variational"``, ``"finite-difference"``.
 JACOBIANS = ("auto", "variational", "finite-difference")
 
 
 def crank_period(config) -> float:
     """Period of the slider-crank's motion, ``2 pi / |omega0|`` [s]."""
     return 2.0 * math.pi / abs(config.mechanism.crank_speed)
-
-
-def _fast_rhs(model):
-    """The model's right-hand side, called from Python without Numba's type dispatch when compiled."""
-    rhs = model.functions()[0]
-    if not model.compiled:
-        return rhs
-    try:
-        from numba import types
-
-        f8 = types.float64
-        sig = (f8, f8[::1], f8[::1], model.params_type)
-        rhs.compile(sig)
-        return rhs.overloads[sig].entry_point
-    except Exception:  # another Numba layout: the dispatcher itself (slower, same result)
-        return rhs
 
 
 class PeriodMap:
@@ -109,13 +108,16 @@ class PeriodMap:
         self.model = build_model(self.config, motion)
         self.n = self.model.initial_state().size  # 2N planar, 6N spatial
         self.spatial = config.beam.model == "spatial"
-        self._rhs = None
         self._scale = None
+        self._last = None  # (state bytes, run): the last period integrated
+        #: The map's relative accuracy, for the steps of differences of the map (:mod:`.shooting`).
+        self.accuracy = self.config.solver.rtol
         self.monitored = config.film.enabled or config.contact.law != "none"
 
     # --- the map ------------------------------------------------------------------------------------
-    def run(self, y0, t_end=None):
-        """The :class:`~lubelink.simulate.Run` from ``y0`` over one period (or to ``t_end``); MapFailure if it ends early."""
+    def run(self, y0, t_end=None, config=None):
+        """The :class:`~lubelink.simulate.Run` from ``y0`` over one period (or to ``t_end``; with the tolerances of
+        ``config`` if given); MapFailure if it ends early."""
         from ..simulate import run
 
         y0 = np.asarray(y0, dtype=float)
@@ -124,7 +126,7 @@ class PeriodMap:
         if self.monitored and self.model.gap(0.0, self.model.to_state(y0)) < 0.0:
             raise MapFailure(f"the state at t = 0 lies inside the contact (the film is thinner than "
                              f"contact.min_film = {self.config.contact.min_film} m)")
-        config = self.config
+        config = self.config if config is None else config
         if t_end is not None:
             config = config.replace(solver=replace(config.solver, t_end=float(t_end)))
         r = run(config, model=self.model, y0=y0)
@@ -133,36 +135,77 @@ class PeriodMap:
         return r
 
     def __call__(self, y0, jacobian=False) -> MapValue:
-        """The state one period after ``y0``, with the monodromy matrix if asked for and available."""
-        r = self.run(y0)
+        """The state one period after ``y0``, with the monodromy matrix if asked for (``"checked"``: and its check).
+
+        The variational equations in a smooth period (``"auto"``), else central
+        differences of the map at :data:`DIFFERENCE_RTOL` (:meth:`differences`);
+        ``info["jacobian"]`` says which.
+        """
+        y0 = np.asarray(y0, dtype=float)
+        key = y0.tobytes()
+        r = self._last[1] if self._last is not None and self._last[0] == key else self.run(y0)
+        self._last = (key, r)
         events = len(r.impacts)
         info = {"t": r.t, "y": r.y, "events": events, "nfev": r.nfev}
-        J = None
-        if jacobian and (self.jacobian == "variational" or (self.jacobian == "auto" and not self.spatial)):
-            if events == 0:
-                J = self.variational(y0)
-            elif self.jacobian == "variational":
-                raise MapFailure(f"jacobian = 'variational': {events} contact event(s) in the period; the "
-                                 "variational equations do not cross impacts, use 'auto' or 'finite-difference'")
-        return MapValue(np.array(r.y[-1], dtype=float), J, info)
+        J = check = None
+        if jacobian:
+            if self._scale is None:
+                self._scale = self._scale_of(r.y)
+            checked = jacobian == "checked"
+            if self.jacobian == "variational" or (self.jacobian == "auto" and events == 0):
+                if events:
+                    raise MapFailure(f"jacobian = 'variational': {events} contact event(s) in the period; the "
+                                     "variational equations do not cross impacts, use 'auto' or 'finite-difference'")
+                rtol = self.config.solver.rtol
+                J = self.variational(y0, rtol if checked else max(rtol, NEWTON_RTOL))
+                if checked:  # the check's difference scaled to the error at rtol (see CHECK_FACTOR)
+                    check = J + (self.variational(y0, CHECK_FACTOR * rtol) - J) / math.sqrt(CHECK_FACTOR)
+                info["jacobian"] = "variational"
+            else:
+                J, count, check = self.differences(y0, checked)
+                info["jacobian"], info["evaluations"] = "finite-difference", count
+        return MapValue(np.array(r.y[-1], dtype=float), J, info, check)
 
-    def variational(self, y0):
-        """The monodromy matrix ``dy(T)/dy0`` from the variational equations (a smooth period)."""
+    def variational(self, y0, rtol=None):
+        """The monodromy matrix ``dy(T)/dy0`` from the variational equations (a smooth period), compiled
+        (:func:`~.variational.flow_with_jacobian`), at the map's tolerances or ``rtol``."""
         from .variational import flow_with_jacobian
 
-        if self._rhs is None:
-            self._rhs = _fast_rhs(self.model)
         s = self.config.solver
+        rtol = s.rtol if rtol is None else rtol
+        model = self.model
         try:
-            _, M, _ = flow_with_jacobian(self._rhs, self.model.with_phase(None), 0.0, self.model.to_state(y0),
-                                         self.period, self.scale(), rtol=s.rtol, atol=s.atol,  # eta ~ q in size
-                                         jacobian=not self.model.jacobian_missing(None))
+            _, M, _ = flow_with_jacobian(model.functions()[0], model.with_phase(None), 0.0, model.to_state(y0),
+                                         self.period, self.scale(), rtol=rtol, atol=s.atol * rtol / s.rtol,
+                                         jacobian=not model.jacobian_missing(None),
+                                         p_type=model.params_type if model.compiled else None,
+                                         compiled=model.compiled)
         except RuntimeError as exc:
             raise MapFailure(str(exc)) from None
-        if not self.model.uniform:  # the integrator's eigen-coordinates -> the sine modes of the map
+        if not model.uniform:  # the integrator's eigen-coordinates -> the sine modes of the map
             eye = np.eye(self.n)
-            M = self.model.to_physical(eye).T @ M @ self.model.to_state(eye).T
+            M = model.to_physical(eye).T @ M @ model.to_state(eye).T
         return M
+
+    def differences(self, y0, check=False):
+        """``(M, evaluations, M_check)``: the monodromy matrix by central differences of the map.
+
+        With ``check`` (the multipliers' matrix) the runs take the tolerances
+        :data:`DIFFERENCE_RTOL`, :data:`DIFFERENCE_ATOL` (or the configuration's, if tighter), the
+        steps :func:`~.shooting.difference_step` of that accuracy times the scale, and steps twice
+        as long for ``M_check``; without (a Newton step's), the map's own tolerances.
+        """
+        from .shooting import difference_step, finite_difference_jacobian
+
+        s = self.config.solver
+        rtol = min(s.rtol, DIFFERENCE_RTOL) if check else s.rtol
+        fine = self.config.replace(solver=replace(s, rtol=rtol, atol=min(s.atol, DIFFERENCE_ATOL) if check else s.atol))
+
+        def fmap(y, jacobian=False):
+            return MapValue(np.array(self.run(y, config=fine).y[-1], dtype=float))
+
+        return finite_difference_jacobian(fmap, np.asarray(y0, dtype=float), self.scale(), difference_step(rtol),
+                                          check=check)
 
     # --- sizes ------------------------------------------------------------------------------------
     def scale(self, y=None):
@@ -172,12 +215,14 @@ class PeriodMap:
         orbit asked for, or from one period from rest.
         """
         if y is not None or self._scale is None:
-            samples = self.run(np.zeros(self.n) if y is None else y).y
-            N = self.n // 2
-            d = max(float(np.max(np.abs(samples[:, :N]))), 1e-9)
-            v = max(float(np.max(np.abs(samples[:, N:]))), d * 2.0 * math.pi / self.period)
-            self._scale = np.concatenate([np.full(N, d), np.full(N, v)])
+            self._scale = self._scale_of(self.run(np.zeros(self.n) if y is None else y).y)
         return self._scale
+
+    def _scale_of(self, samples):
+        N = self.n // 2
+        d = max(float(np.max(np.abs(samples[:, :N]))), 1e-9)
+        v = max(float(np.max(np.abs(samples[:, N:]))), d * 2.0 * math.pi / self.period)
+        return np.concatenate([np.full(N, d), np.full(N, v)])
 
     def set_scale(self, scale):
         self._scale = np.asarray(scale, dtype=float)
