@@ -58,6 +58,17 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
         spatial = run(resolve("spatial-slider-crank", {"beam.modes": 2, "solver.method": method, "solver.t_end": 2e-3,
                                                        "solver.output_step": 1e-3}))
     to_dataset(spatial)
+    if progress:
+        progress("compiling the variational equations (lubelink periodic, lubelink continue)")
+    import numpy as np
+
+    from .steady.variational import flow_with_jacobian
+
+    dry, spatial = resolve("paper-dry"), resolve("spatial-slider-crank", {"beam.modes": 2})
+    for m in (model, build_model(dry), build_model(spatial)):
+        n = m.initial_state().size
+        flow_with_jacobian(m.functions()[0], m.params, 0.0, np.zeros(n), 1e-3, np.ones(n), p_type=m.params_type,
+                           jacobian=not m.jacobian_missing(None))
     # every built-in scenario: a film option given or not (a cavitation table, rough surfaces, a contact law) changes
     # the parameters' type, and with it the kernels and the method its "auto" chooses
     for name in SCENARIOS:
