@@ -178,7 +178,7 @@ def graze():
     probe = run(resolve("paper", {**base, "contact.min_film": 0.0, "solver.output_step": 1e-6}))
     x_star = np.ascontiguousarray(probe.model.motion(probe.t).x_star)
     watched = build_model(resolve("paper", {**base, "contact.law": "restitution"}))  # the same link, gap watched
-    film = thinnest_many(x_star, np.ascontiguousarray(probe.y), watched.params)
+    film = thinnest_many(x_star, np.ascontiguousarray(probe.y), watched.params)[:, 0]
     i = int(np.flatnonzero((film[1:-1] < film[:-2]) & (film[1:-1] < film[2:]))[0]) + 1
     h = probe.t[1] - probe.t[0]
     curvature = (film[i + 1] - 2 * film[i] + film[i - 1]) / h**2

@@ -95,7 +95,7 @@ def u3_faces(model, want, y_state, x_star, V_r):
     q3, q3_t = np.ascontiguousarray(y3[:, :N]), np.ascontiguousarray(y3[:, N:])
     out = {}
     if (cfg.film.enabled or cfg.contact.law != "none") and "film_min_u3" in want:
-        out["film_min_u3"] = _entry("film_min_u3", _select(thinnest_many, compiled)(x_star, y3, p))
+        out["film_min_u3"] = _entry("film_min_u3", _select(thinnest_many, compiled)(x_star, y3, p)[:, 0])
     if cfg.film.enabled and "film_force_u3" in want:
         out["film_force_u3"] = _entry("film_force_u3", _select(film.film_force_many, compiled)(
             q3, q3_t, x_star, V_r, p.film, p.beam.height, p.pad, L))
@@ -156,7 +156,7 @@ def joint_reactions(result, t, y, losses, data):
     and the joint reaction of the collar's mass at ``x_star``.
     """
     from .link.kinematics import motion_at
-    from .link.model import rates_many
+    from .link.model import rates_many, thinnest_many
     from .link.reactions import crank_pin_acceleration, joint_reactions as reactions, link_inertia
     from .link.section import taper
 
@@ -187,10 +187,14 @@ def joint_reactions(result, t, y, losses, data):
         point_loads += data["asperity_force"][1]
     if "contact_force" in data:
         point_loads -= side * data["contact_force"][1]
-    if np.any(point_loads):
-        lever = np.array([model.contact_position(t[i], phase_i) if cfg.contact.law == "restitution" and s != 0 else
-                          model.thinnest_film(t[i], y[i])[1] if point_loads[i] != 0.0 else 0.0
-                          for i, (s, phase_i) in enumerate(zip(side, zip(*phase)))])
+    if np.any(point_loads):  # at the thinnest film, or where a sustained contact holds
+        lever = np.zeros(t.size)
+        held = (side != 0) & (cfg.contact.law == "restitution")
+        free = np.flatnonzero((point_loads != 0.0) & ~held)
+        lever[free] = _select(thinnest_many, model.compiled)(np.ascontiguousarray(kin.x_star[free]),
+                                                              np.ascontiguousarray(y[free]), model.params)[:, 1]
+        for i in np.flatnonzero(held):
+            lever[i] = model.contact_position(t[i], (phase[0][i], phase[1][i], phase[2][i]))
         normal = normal + point_loads
         moment += point_loads * lever
     inertia = (_uniform_inertia(cfg.beam, L, N) if result.section is None

@@ -263,7 +263,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
             data["film_force"] = _entry("film_force", force)
     film_min = None  # (the restitution law's penetration check needs it even when it is not stored)
     if (fm.enabled or cfg.contact.law != "none") and ("film_min" in want or cfg.contact.law == "restitution"):
-        film_min = _select(thinnest_many, compiled)(x_star, y, p)
+        film_min = _select(thinnest_many, compiled)(x_star, y, p)[:, 0]
         if "film_min" in want:
             data["film_min"] = _entry("film_min", film_min)
     if fm.roughness > 0.0 and "asperity_force" in want:

@@ -322,10 +322,13 @@ def compliant_many(t, y, side, v_minus, p):
 
 @kernel
 def thinnest_many(x_star, y, p):
-    """Thinnest film [m] (over the pad and the sides) of many samples: ``x_star`` shape ``(T,)``, ``y`` ``(T, 2N)``."""
-    out = np.empty(x_star.shape[0])
+    """Thinnest film [m] (over the pad and the sides) of many samples and where it is, ``x_c`` [m]: shape ``(T, 2)``
+    (``x_star`` shape ``(T,)``, ``y`` ``(T, 2N)``)."""
+    out = np.empty((x_star.shape[0], 2))
     for i in range(x_star.shape[0]):
-        out[i] = thinnest_given(x_star[i], y[i], p)[0]
+        xi, x_c, _, _ = thinnest_given(x_star[i], y[i], p)
+        out[i, 0] = xi
+        out[i, 1] = x_c
     return out
 
 

@@ -86,7 +86,7 @@ def _summary(pmap, value):
     if pmap.monitored:
         x_star = np.ascontiguousarray(np.broadcast_to(model.motion(t).x_star, t.shape), dtype=float)
         f = thinnest_many if model.compiled else thinnest_many.py_func
-        film = float(np.min(f(x_star, y, model.params)))
+        film = float(np.min(f(x_star, y, model.params)[:, 0]))
     out = {"peak_u2_mid": float(np.max(np.abs(u_mid))), "peak_q": np.max(np.abs(y[:, :N]), axis=0),
            "min_film": film, "impact_count": int(value.info["events"]), "period": pmap.period,
            "omega_n": np.array(model.omega_n)}
