@@ -73,3 +73,17 @@ def test_the_stiff_film_is_priced_for_the_method_that_runs():
     assert 0.2 < rodas.seconds < 5.0 and "stiff film" in rodas.reason
     slow = run_cost(lubelink.resolve_config("lubricated", {**stiff, "solver.method": "exponential"}))
     assert 120.0 < slow.seconds < 3600.0 and "not made for a stiff film" in slow.reason
+
+
+@pytest.mark.parametrize("name", ["paper", "paper-dry", "paper-impact", "lubricated", "spatial-slider-crank"])
+def test_the_counted_work_is_that_of_the_run_within_a_factor_of_two(name):
+    """The steps and the right-hand-side evaluations the estimate prices against those the run counts (its
+    seconds against the measured ones: ``benchmarks/bench.py --only estimate``, not a test)."""
+    from lubelink.estimate import EVALS_PER_STEP
+    from lubelink.simulate import run
+
+    config = lubelink.resolve_config(name)
+    estimate = run_cost(config)
+    result = run(config)
+    assert 0.5 < estimate.steps / result.nsteps < 2.0
+    assert 0.5 < estimate.steps * EVALS_PER_STEP[result.method] / result.nfev < 2.0

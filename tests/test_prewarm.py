@@ -178,8 +178,8 @@ def test_the_numpy_estimate_prices_the_results_of_a_film_only():
 
     wet = resolve("paper", {"solver.backend": "numpy"})
     assert 1.0 < results_cost(wet) < 5.0  # measured 2.1 s on the 2-core machine (estimate.py)
-    assert results_cost(resolve("paper-dry", {"solver.backend": "numpy"})) == 0.0
-    assert results_cost(resolve("paper")) == 0.0  # compiled: milliseconds
+    assert results_cost(resolve("paper-dry", {"solver.backend": "numpy"})) < 0.01
+    assert results_cost(resolve("paper")) < 0.05  # compiled: milliseconds
 
 
 @pytest.mark.skipif(os.name != "posix", reason="the background compile is POSIX only")

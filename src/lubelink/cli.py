@@ -178,9 +178,12 @@ def _warn_cost(config):
     """Say before the run when its estimated cost is long, or beyond its wall-time budget."""
     import math
 
-    from .estimate import duration, run_cost
+    from dataclasses import replace
+
+    from .estimate import duration, results_cost, run_cost
 
     est = run_cost(config)
+    est = replace(est, seconds=est.seconds + results_cost(config))
     budget = config.solver.max_wall_time
     if est.seconds > budget:
         spelled = f" ({duration(budget)})" if budget >= 90 else ""

@@ -2,9 +2,10 @@
 
 Nothing is integrated: the estimate counts the work the configuration implies and prices it
 with costs measured on a 2-core laptop-class machine (compiled backend; a faster machine runs
-faster). It is meant to catch the runs that would take hours before they start (a tiny
-``solver.max_step``, hundreds of modes), not to time a normal run, which it puts well below a
-second (start-up, compilation or loading the compiled code, and writing the file come on top).
+faster). It catches the runs that would take hours before they start (a tiny ``solver.max_step``,
+hundreds of modes) and prices a normal one within a factor of two: ``benchmarks/bench.py --only
+estimate`` prints both for every built-in scenario (start-up, compilation or loading the compiled
+code, and writing the file come on top).
 Measured against it on that machine: ``solver.max_step = 1e-9`` over ``t_end = 0.2`` s is estimated
 at 37 min and ran 2.8e5 steps in its first 3 s (36 min in all); 200 modes over 0.2 s are estimated
 at 82 s and ran in 93 s.
@@ -13,13 +14,21 @@ The work counted:
 
 * **steps**: at least ``t_end / max_step``; for the explicit methods (DOP853, RK45,
   Bulirsch-Stoer) at least ``t_end * omega_N / 5`` (their stability limit on the fastest mode);
-  at least 250 per simulated second (what the tolerances ask of the paper's mechanism);
+  at least 400 per simulated second (what the tolerances ask of the paper's mechanism); the
+  spatial link's at least ``t_end * omega_a / 3.5`` (its first axial mode, which the methods follow);
 * **right-hand-side evaluations**: the steps times the evaluations of one step of the method,
-  each priced by the film quadrature (``modes x quadrature_nodes``), the Reynolds cavitation
-  grid, and the Python overhead of SciPy's methods or of the ``numpy`` backend;
+  each priced by the film quadrature (``modes x quadrature_nodes``), the half-Sommerfeld film and
+  rough surfaces (per node), the Reynolds cavitation grid, the exponential methods' work on the
+  state, and the Python overhead of SciPy's methods or of the ``numpy`` backend;
 * **gap samples** (film or contact law on): the event detector samples the gap every quarter
   period of the fastest mode (:func:`lubelink.simulate.event_resolution`), each sample costing
-  ``modes x quadrature_nodes``; this is what makes 200 modes slow.
+  ``modes x quadrature_nodes``; this is what makes 200 modes slow;
+* **the results** (:func:`results_cost`): per output sample, the film's series, the energy's powers
+  and the joint reactions evaluate the film about six times; a fixed part builds the model and the
+  Dataset.
+
+Measured against it (CPU time, warm, 2026-11-28; ``benchmarks/bench.py --only estimate``): the
+built-in scenarios at 0.6-1.7x their estimate.
 """
 
 from __future__ import annotations
@@ -31,8 +40,9 @@ __all__ = ["Estimate", "run_cost", "results_cost", "duration"]
 
 #: Right-hand-side evaluations per step (the exponential Adams method: two, and its fit and sums over
 #: the tables, which cost about one more with one mode: 2.9 us a step of ``paper`` at a fixed step
-#: against 0.93 us an evaluation).
-EVALS_PER_STEP = {"DOP853": 12, "RK45": 6, "bulirsch-stoer": 9, "exponential": 7, "exponential-adams": 3, "Radau": 7,
+#: against 0.93 us an evaluation; DOP853: 12 stages, its dense output and the gap's samples, 19.6-22
+#: measured on ``paper``, ``paper-impact`` and ``lubricated``).
+EVALS_PER_STEP = {"DOP853": 20, "RK45": 6, "bulirsch-stoer": 9, "exponential": 7, "exponential-adams": 3, "Radau": 7,
                   "BDF": 3, "LSODA": 3, "rodas": 7}
 #: The stiff method's steps per simulated second on a stiff film (``benchmarks/stiff.py``: 3,800-4,900 at
 #: 100 um with 15-63 modes), and the cost of its analytic Jacobian [s] per ``N^2 nodes + N nodes^2`` and
@@ -48,10 +58,21 @@ EXPLICIT = ("DOP853", "RK45", "bulirsch-stoer")
 #: SciPy's methods: run as Python, step by step.
 SCIPY = ("RK45", "Radau", "BDF", "LSODA")
 STABILITY = 5.0
-#: Steps per simulated second that the default tolerances take on the paper's mechanism.
-STEPS_PER_SECOND = 250.0
+#: Steps per simulated second that the default tolerances take on the paper's mechanism (240-450 measured
+#: on the built-in scenarios with one mode).
+STEPS_PER_SECOND = 400.0
+#: Steps of the spatial link per radian of its first axial mode (``spatial-slider-crank``: 1179 steps over
+#: 0.5 s at 8.1e3 rad/s).
+AXIAL_RADIANS_PER_STEP = 3.5
 #: Seconds: one compiled right-hand-side evaluation, and per mode and quadrature node.
-EVAL_BASE, EVAL_PER_MODE_NODE = 0.8e-6, 0.004e-6
+EVAL_BASE, EVAL_PER_MODE_NODE = 0.5e-6, 0.004e-6
+#: Seconds per quadrature node and film side: the half-Sommerfeld film's running integral of ``p'``
+#: (``paper`` with DOP853: 0.55 -> 2.03 us an evaluation at 32 nodes), and rough surfaces' mean gap
+#: and asperity pressure (0.55 -> 2.02 us).
+EVAL_PER_CLIPPED_NODE, EVAL_PER_ROUGH_NODE = 0.05e-6, 0.05e-6
+#: Seconds per step and squared state size: the exponential methods' work on the state (their phi
+#: functions and tables; ``spatial-slider-crank``, 18 states: 13.5 us a step for 7 evaluations of 0.9 us).
+EXPONENTIAL_PER_STATE2 = 0.01e-6
 #: Seconds per point of the Reynolds cavitation grid per evaluation.
 EVAL_PER_GRID_POINT = 0.035e-6
 #: Seconds per pad grid point and term across the width (``film.reynolds = "2d"``) per evaluation,
@@ -63,6 +84,13 @@ SCIPY_PER_EVAL, SCIPY_PER_STEP = 40e-6, 100e-6
 NUMPY_FACTOR = 200.0
 #: Seconds: one sample of the gap, and per mode and quadrature node.
 SAMPLE_BASE, SAMPLE_PER_MODE_NODE = 0.3e-6, 0.017e-6
+#: Compiled results: seconds per output sample (the state's series), per film side (its pressure and
+#: shear), and the film's evaluations per sample that the results make (film force, energy powers,
+#: joint reactions), measured: ``paper`` 5.3, ``paper-dry`` 2.2, ``lubricated`` 22, ``guide`` 92 us a
+#: sample; the spatial link's (three directions, the u3 faces' film) about 4x the planar link's.
+RESULTS_BASE, RESULTS_PER_SIDE, RESULTS_EVALS, RESULTS_SPATIAL = 2e-6, 2.5e-6, 6.0, 4.0
+#: Seconds building the model and the Dataset of a run.
+RESULTS_FIXED = 3e-3
 #: Seconds per output sample of the film's results series on the ``numpy`` backend, and per pad
 #: point of its pressure field (one mode; a mode more adds half). Measured: ``paper`` (2001 samples,
 #: 41 pad points) 2.1 s, with 11 pad points 0.56 ms per sample, with 7 modes 2.9 ms per sample.
@@ -118,6 +146,8 @@ def run_cost(config) -> Estimate:
     if method in EXPLICIT:
         floors.append((s.t_end * omega / STABILITY,
                        f"{method} is explicit and mode {b.modes} vibrates at {omega:.3g} rad/s"))
+    if b.model == "spatial":
+        floors.append((s.t_end * _first_axial_mode(config) / AXIAL_RADIANS_PER_STEP, ""))
     rate = film_squeeze_rate(config)
     if method == "rodas" and stiff_reason(config):
         floors.append((s.t_end * STIFF_STEPS_PER_SECOND, "a stiff film"))
@@ -127,16 +157,12 @@ def run_cost(config) -> Estimate:
                        "(solver.method = 'auto' or 'rodas')"))
     steps, why_steps = max(floors, key=lambda f: f[0])
 
-    per_eval = EVAL_BASE + EVAL_PER_MODE_NODE * n_nodes
-    if fm.enabled and fm.reynolds == "2d":
-        per_eval += EVAL_PER_WIDTH_TERM * fm.grid_points * fm.width_modes * fm.sides
-        if fm.cavitation == "half-sommerfeld":
-            per_eval += EVAL_PER_WIDTH_CLIP * fm.grid_points * fm.width_modes * fm.width_points * fm.sides
-    elif fm.enabled and (fm.cavitation == "reynolds" or fm.reynolds == "short"):
-        per_eval += EVAL_PER_GRID_POINT * fm.grid_points * fm.sides
+    per_eval = _per_eval(config)
     if s.backend == "numpy":
         per_eval *= NUMPY_FACTOR
     per_step = EVALS_PER_STEP.get(method, 12) * per_eval
+    if method.startswith("exponential"):
+        per_step += EXPONENTIAL_PER_STATE2 * (2 * b.modes * (3 if b.model == "spatial" else 1)) ** 2
     if method == "rodas":
         N, nodes = b.modes, fm.quadrature_nodes
         per_step += JACOBIAN_PER_TERM * (N * N * nodes + N * nodes * nodes) * max(fm.sides if fm.enabled else 0, 1)
@@ -158,12 +184,47 @@ def run_cost(config) -> Estimate:
     return Estimate(step_seconds + sample_seconds, steps, reason)
 
 
+def _per_eval(config) -> float:
+    """Seconds of one compiled evaluation of the right-hand side."""
+    b, fm = config.beam, config.film
+    if not fm.enabled:
+        return EVAL_BASE
+    nodes = fm.quadrature_nodes * fm.sides
+    per_eval = EVAL_BASE + EVAL_PER_MODE_NODE * b.modes * nodes
+    if fm.reynolds == "2d":
+        per_eval += EVAL_PER_WIDTH_TERM * fm.grid_points * fm.width_modes * fm.sides
+        if fm.cavitation == "half-sommerfeld":
+            per_eval += EVAL_PER_WIDTH_CLIP * fm.grid_points * fm.width_modes * fm.width_points * fm.sides
+    elif fm.cavitation == "reynolds" or fm.reynolds == "short":
+        per_eval += EVAL_PER_GRID_POINT * fm.grid_points * fm.sides
+    elif fm.cavitation == "half-sommerfeld":
+        per_eval += EVAL_PER_CLIPPED_NODE * nodes
+    if fm.roughness > 0.0:
+        per_eval += EVAL_PER_ROUGH_NODE * nodes
+    return per_eval
+
+
+def _first_axial_mode(config) -> float:
+    """The spatial link's first axial frequency [rad/s]: ``(pi / L) sqrt(E / rho)``, half that with a free end."""
+    b, L = config.beam, config.mechanism.rod_length
+    omega = math.pi / L * math.sqrt(b.youngs_modulus / b.density)
+    return 0.5 * omega if getattr(b, "axial_end", "fixed") == "free" else omega
+
+
 def results_cost(config) -> float:
-    """Estimated wall time [s] of the results series (:func:`lubelink.results.collect`) of a
-    run on the ``numpy`` backend (compiled, they cost a few milliseconds)."""
+    """Estimated wall time [s] of the results (:func:`lubelink.results.collect` and the Dataset) of a run."""
     s = config.solver
-    if s.backend != "numpy" or not config.film.enabled:
-        return 0.0
+    samples = s.t_end / s.output_step + 1.0
+    if s.backend != "numpy":
+        fm = config.film
+        per_sample = RESULTS_BASE + RESULTS_EVALS * (_per_eval(config) - EVAL_BASE)
+        if fm.enabled:
+            per_sample += RESULTS_PER_SIDE * fm.sides
+        if config.beam.model == "spatial":
+            per_sample *= RESULTS_SPATIAL
+        return RESULTS_FIXED + samples * per_sample
+    if not config.film.enabled:
+        return RESULTS_FIXED
     per_sample = RESULTS_PER_SAMPLE + RESULTS_PER_PAD_POINT * config.output.pad_points * (
         1.0 + 0.5 * (config.beam.modes - 1)) * config.film.sides
-    return (s.t_end / s.output_step + 1.0) * per_sample
+    return RESULTS_FIXED + samples * per_sample
