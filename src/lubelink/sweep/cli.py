@@ -16,7 +16,7 @@ from pathlib import Path
 from .._files import atomic_path, target_problem
 from ..config import ConfigError, _name
 from ..errors import UsageError, exit_status, interrupted
-from .execute import _bar, _cpu_count, check_size, output_problem, run_sweep
+from .execute import EXECUTORS, _bar, _cpu_count, check_size, output_problem, run_sweep
 from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .plot import plot_sweep
 from .schema import SweepError, _fmt, _parameters
@@ -31,17 +31,24 @@ def register_cli(subparsers, add_config_args):
     """Add the ``sweep`` and ``plot-sweep`` subcommands."""
     del add_config_args  # a sweep file names its own base configuration
     p = subparsers.add_parser(
-        "sweep", help="run a parameter sweep on Dask (resumable)",
-        description="Run every point of a sweep file on Dask and store the results (Zarr, or NetCDF "
-                    "for FILE.nc) as they finish. Running the same command again resumes: stored points "
-                    "are skipped. See docs/sweeps.md.")
+        "sweep", help="run a parameter sweep (resumable): in this process, on a process pool or on Dask",
+        description="Run every point of a sweep file and store the results (Zarr, or NetCDF for FILE.nc) "
+                    "as they finish: in this process, on a pool of worker processes or on Dask (--executor; "
+                    "by default the one that finishes first). Running the same command again resumes: "
+                    "stored points are skipped. See docs/sweeps.md.")
     p.add_argument("sweep_file", metavar="SWEEP.toml", help="the sweep definition")
     p.add_argument("-o", "--output", metavar="RESULTS",
                    help="results store: DIR.zarr or FILE.nc (default: <sweep file name>.zarr here)")
+    p.add_argument("--executor", choices=EXECUTORS, default="auto",
+                   help="where the points run: serial (this process), processes (a pool of --workers processes), "
+                        "dask (a local Dask cluster of --workers processes, or --scheduler); auto (default): "
+                        "dask with --scheduler, else serial for --workers 1 or a sweep of a few seconds, else "
+                        "processes")
     p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786 "
-                        "(default: a local cluster)")
-    p.add_argument("--workers", metavar="N", help="worker processes of the local cluster (default: one per core)")
+                   help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786 (implies --executor dask)")
+    p.add_argument("--workers", metavar="N",
+                   help="worker processes of the pool or of the local Dask cluster (default: one per core; "
+                        "1 runs in this process)")
     p.add_argument("--retry-failed", action="store_true",
                    help="compute again the stored points whose status is not 'complete'")
     p.add_argument("--overwrite", action="store_true", help="discard a store that holds a different sweep")
@@ -169,6 +176,11 @@ def _cmd_sweep(args):
             raise UsageError(f"--workers {args.workers}: must be a whole number >= 1")
     if args.scheduler and workers:
         raise UsageError("give either --scheduler ADDRESS (an existing cluster) or --workers N (a local one), not both")
+    if args.scheduler and args.executor not in ("auto", "dask"):
+        raise UsageError(f"--executor {args.executor} runs on this machine: --scheduler needs --executor dask")
+    if args.executor == "serial" and workers not in (None, 1):
+        raise UsageError(f"--executor serial runs in this process: --workers {workers} needs --executor "
+                         "processes or dask")
     sp = read_sweep(path_in)
     out = Path(args.output) if args.output else Path(f"{path_in.stem}.zarr")
     problem = output_problem(out)
@@ -196,11 +208,13 @@ def _cmd_sweep(args):
         check_size(sp, max_points, estimate.workers)
     except SweepError as exc:
         raise UsageError(str(exc)) from None
-    _require("distributed", "zarr", "xarray", extra="sweep")
+    _require(*(("distributed",) if args.executor == "dask" or args.scheduler else ()), "zarr", "xarray",
+             extra="sweep")
     if not args.quiet:
         print(f"{sp.origin}: {sp.size:,} points -> {out}; estimate {estimate}", file=sys.stderr)
     try:
-        ds = run_sweep(sp, out, scheduler=args.scheduler, workers=workers, retry_failed=args.retry_failed,
+        ds = run_sweep(sp, out, executor=args.executor, scheduler=args.scheduler, workers=workers,
+                       retry_failed=args.retry_failed,
                        overwrite=args.overwrite, progress=not args.quiet, trace=args.trace,
                        max_points=max_points)
     except SweepError as exc:

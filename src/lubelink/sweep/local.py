@@ -1,0 +1,264 @@
+"""Running a sweep without Dask: in the calling process, or on a pool of worker processes.
+
+:func:`run_serial` computes the points one after the other in this process; :func:`run_pool` on a
+``concurrent.futures.ProcessPoolExecutor`` of worker processes (``forkserver`` where there is one,
+else ``spawn``). Both commit every point through :class:`Tally`, as the Dask path
+(:func:`lubelink.sweep.execute._execute`) does: the store, its journal, the counts and the
+progress bar are the same on every path. :class:`Batcher` sizes the tasks of the pool and of
+Dask alike.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import sys
+from collections import deque
+
+import numpy as np
+
+from .compute import _compute_points, _empty_record
+
+__all__ = ["run_serial", "run_pool", "Tally", "Batcher", "POOL_CONTEXT", "DEATHS"]
+
+#: Start method of the pool's processes: ``forkserver`` (a server process imports lubelink once,
+#: each worker is a fork of it: no copy of a parent's threads, 0.04 s to shut down) where it
+#: exists, else ``spawn``. Measured on 2 cores, first results of 2 workers (imports and the
+#: kernels loaded from Numba's cache): ``spawn`` 3.7-5.7 s, ``forkserver`` 3.5-4.6 s (shutdown
+#: 1.0-1.3 s against 0.04 s), benchmarks/README.md.
+POOL_CONTEXT = "forkserver"
+#: Modules the forkserver imports once for all its workers.
+PRELOAD = ["lubelink.sweep.compute", "lubelink.simulate", "lubelink.results"]
+#: A point that breaks the pool this many times, computed alone, is stored as ``worker_died``
+#: (Dask's ``distributed.scheduler.allowed-failures`` is 3 as well).
+DEATHS = 3
+
+
+def _cpu_count() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def _main_not_rerun():
+    """While it lasts, the processes multiprocessing starts do not run the ``__main__`` script again.
+
+    The local cluster's workers are started by multiprocessing's spawn method (Dask's default),
+    which runs the parent's ``__main__`` script in each child (as ``__mp_main__``) so that what
+    it defines can be unpickled there: a script calling :func:`run_sweep` at its top level,
+    without ``if __name__ == "__main__":``, would run again in every worker (and its sweep find
+    the store in use). A worker needs nothing of the script (its tasks are lubelink's functions
+    of configurations), so ``__main__`` is shown to multiprocessing as the module ``__main__``,
+    which a child leaves alone (``multiprocessing.spawn._fixup_main_from_name``): for a script,
+    or a module run with ``python -m``, as for the ``lubelink`` command itself.
+    """
+    import importlib.machinery
+
+    main = sys.modules.get("__main__")
+    if main is None or (getattr(main, "__file__", None) is None and getattr(main, "__spec__", None) is None):
+        yield  # an interactive session: nothing to run again
+        return
+    spec = main.__spec__
+    main.__spec__ = importlib.machinery.ModuleSpec("__main__", None)
+    try:
+        yield
+    finally:
+        main.__spec__ = spec
+
+
+class _Queue:
+    """The pending flat indices (a NumPy array) consumed from the front, as ``deque`` would be;
+    a large sweep keeps one integer array, not a Python object per point."""
+
+    def __init__(self, flats):
+        self._flats, self._next = np.asarray(flats, dtype=np.int64), 0
+
+    def __len__(self):
+        return len(self._flats) - self._next
+
+    def popleft(self):
+        flat = int(self._flats[self._next])
+        self._next += 1
+        return flat
+
+
+class Batcher:
+    """The points of the next task: one until a point's duration is known, then as many as take about
+    ``task_seconds`` (fewer towards the end, so that every worker has work to the last); points to
+    run one a task (``single``, those of a task that killed its worker) come first."""
+
+    def __init__(self, pending, task_seconds):
+        self.queue, self.single, self.task_seconds = _Queue(pending), deque(), task_seconds
+        self.per_point = None  # seconds per point on a worker (moving average)
+
+    def __bool__(self):
+        return bool(len(self.queue) or self.single)
+
+    def timed(self, seconds, points):
+        rate = seconds / max(points, 1)
+        self.per_point = rate if self.per_point is None else 0.8 * self.per_point + 0.2 * rate
+
+    def batch(self, nthreads):
+        if self.single:
+            return [self.single.popleft()]
+        n = 1
+        if self.per_point is not None and self.task_seconds > 0:
+            n = int(self.task_seconds / max(self.per_point, 1e-6))
+            # keep every worker busy to the end, with tasks of at least a tenth of task_seconds
+            n = min(n, 256, max(len(self.queue) // (2 * nthreads), n // 10))
+        return [self.queue.popleft() for _ in range(min(max(1, n), len(self.queue)))]
+
+
+def _bar(progress, total, desc, initial=0):
+    """A :class:`lubelink.progress.Bar` of points on stderr: tqdm's on a terminal, plain lines in a log."""
+    from ..progress import Bar
+
+    return Bar(total, desc, "pt", stream=sys.stderr, enabled=progress, initial=initial,
+               dynamic_ncols=True, smoothing=0.05, mininterval=0.2,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n}/{total} [{elapsed}<{remaining}, "
+                          "{rate_fmt}{postfix}]")
+
+
+class Tally:
+    """Commits finished points to the store and counts them, for every executor: the store's journal
+    line is the commit; ``session`` (the run's entry in the store's ``runs``) and the bar follow."""
+
+    def __init__(self, st, sp, pending, done, status, progress, session, workers):
+        self.st, self.sp, self.session = st, sp, session
+        retried = int(done[pending].sum())
+        self.failed = int((done & (status != "complete")).sum()) - retried
+        self.n_done = int(done.sum()) - retried
+        self.bar = _bar(progress, sp.size, "sweep", initial=self.n_done)
+        self.bar.stage(f"{len(pending)} point(s) to compute, {self.n_done} stored; {workers} worker(s)")
+        self.bar.note(f"failed {self.failed}, remaining {sp.size - self.n_done}", refresh=False)
+
+    def commit(self, results):
+        """Store ``[(flat, record, series), ...]`` (one journal append), then count them."""
+        if not results:
+            return
+        self.st.write(results)
+        new_failed = sum(1 for _, record, _ in results if record["status"] != "complete")
+        self.session["computed"] += len(results)
+        self.session["failed"] += new_failed
+        self.n_done += len(results)
+        self.failed += new_failed
+        self.bar.note(f"failed {self.failed}, remaining {self.sp.size - self.n_done}", refresh=False)
+        self.bar.update(len(results))
+
+    def close(self):
+        self.bar.close()
+
+
+def run_serial(sp, pending, opts, trace, tally):
+    """Compute the points one after the other in this process, each stored as it ends."""
+    base = sp.base_config
+    for flat in np.asarray(pending, dtype=np.int64).tolist():
+        results, _ = _compute_points([flat], [sp.overrides(flat)], base, opts, trace)
+        tally.commit(results)
+    tally.session["lost"] = 0
+
+
+def _worker_init():
+    """In each worker of the pool: Ctrl-C at a terminal (the whole process group) is the parent's to
+    handle; the worker is stopped by it, without a KeyboardInterrupt traceback of its own."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _context():
+    import multiprocessing as mp
+
+    try:
+        ctx = mp.get_context(POOL_CONTEXT)
+    except ValueError:  # no forkserver (Windows)
+        return mp.get_context("spawn")
+    ctx.set_forkserver_preload(PRELOAD)
+    return ctx
+
+
+def _new_pool(workers):
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(workers, mp_context=_context(), initializer=_worker_init)
+
+
+def _stop(pool):
+    """Stop a pool at once: queued tasks cancelled, its processes terminated (an interruption)."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.terminate()
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.join(5.0)
+
+
+def run_pool(sp, pending, opts, trace, tally, workers, task_seconds):
+    """Compute the points on a pool of ``workers`` processes, a moving window of tasks in flight, each
+    task's points stored as it completes.
+
+    A worker that dies (killed, out of memory) breaks the pool: its points and those of the other
+    tasks in flight are computed again, one point a task and one task at a time, on a new pool; a
+    point that breaks it :data:`DEATHS` times alone is stored as ``worker_died``.
+    """
+    from concurrent.futures import FIRST_COMPLETED, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    batcher = Batcher(pending, task_seconds)
+    deaths = {}
+    suspects = deque()  # points of tasks in flight when the pool broke: computed alone
+    window = 2 * workers + 1
+    active = {}
+    with _main_not_rerun():  # a worker does not run the caller's __main__ script again
+        pool = _new_pool(workers)
+        try:
+            while active or batcher or suspects:
+                limit = 1 if suspects else window
+                while len(active) < limit and (suspects or batcher):
+                    task = [suspects.popleft()] if suspects else batcher.batch(workers)
+                    fut = pool.submit(_compute_points, task, [sp.overrides(f) for f in task], sp.base_config,
+                                      opts, trace)
+                    active[fut] = task
+                finished, _ = wait(list(active), return_when=FIRST_COMPLETED)
+                broken = []
+                for fut in finished:
+                    task = active.pop(fut)
+                    exc = fut.exception()
+                    if exc is None:
+                        results, seconds = fut.result()
+                        batcher.timed(seconds, len(task))
+                        tally.commit(results)
+                    elif isinstance(exc, BrokenProcessPool):
+                        broken.append(task)
+                    else:  # the task itself failed (a result that cannot be sent back): its points fail
+                        from .compute import _describe
+
+                        tally.commit([(f, _empty_record(sp.quantities, sp.max_impacts, "error", _describe(exc),
+                                                        math.nan), {}) for f in task])
+                if broken:
+                    broken += list(active.values())  # the whole pool is gone: every task in flight
+                    active.clear()
+                    pool.shutdown(wait=True, cancel_futures=True)
+                    if len(broken) == 1 and len(broken[0]) == 1:  # alone: this point killed its worker
+                        flat = broken[0][0]
+                        deaths[flat] = deaths.get(flat, 0) + 1
+                        if deaths[flat] >= DEATHS:
+                            tally.commit([(flat, _empty_record(sp.quantities, sp.max_impacts, "worker_died",
+                                                               f"the point killed its worker process {DEATHS} times",
+                                                               math.nan), {})])
+                        else:
+                            suspects.appendleft(flat)
+                    else:
+                        suspects.extend(f for task in broken for f in task)
+                    pool = _new_pool(workers)
+        except BaseException:
+            _stop(pool)
+            raise
+        pool.shutdown(wait=True)
+    tally.session["lost"] = 0
+
