@@ -441,19 +441,28 @@ def test_timeouts_netcdf_output_resume_and_retry(client, tmp_path):
     assert retried.status.values[1] == "complete"
 
 
+#: The command-line options of each execution path: (the killed run's, the resumed run's).
+PATHS = {"serial": (["--executor", "serial"], ["--executor", "serial"]),
+         "processes": (["--executor", "processes", "--workers", "2"], ["--executor", "processes", "--workers", "2"]),
+         "dask": (["--workers", "2", "--executor", "dask"], None)}  # resumed on the shared cluster (--scheduler)
+
+
 @on_cluster
-def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, client, tmp_path):
-    """SIGKILL the whole CLI process group (client, scheduler and workers) once points are stored,
-    then resume with the CLI on the shared cluster (--scheduler)."""
+@pytest.mark.parametrize("path", list(PATHS))
+def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, client, tmp_path, path):
+    """SIGKILL the whole CLI process group (the sweep's process and its workers, or its Dask scheduler
+    and workers) once points are stored, then resume with the CLI: on the same path, and for Dask on
+    the shared cluster (--scheduler). Nothing is lost and no stored point is computed again."""
     _, ref, _ = reference
     (tmp_path / "sweep.toml").write_text(SWEEP_TOML)
     store, first, second = tmp_path / "k.zarr", tmp_path / "first.log", tmp_path / "second.log"
     cmd = [sys.executable, "-m", "lubelink", "sweep", "sweep.toml", "-o", "k.zarr", "-q"]
-    proc = subprocess.Popen(cmd + ["--workers", "2", "--trace", str(first)], cwd=tmp_path, start_new_session=True,
+    killed_args, resumed_args = PATHS[path]
+    proc = subprocess.Popen(cmd + killed_args + ["--trace", str(first)], cwd=tmp_path, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 180
     while proc.poll() is None and time.monotonic() < deadline and stored(store) < 3:
-        time.sleep(0.02)
+        time.sleep(0.005)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     before = load_sweep(store)
@@ -462,7 +471,7 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, cli
     assert set(ends(first)) >= done_before
 
     address = client.scheduler.address
-    r = subprocess.run(cmd + ["--scheduler", address, "--trace", str(second)], cwd=tmp_path,
+    r = subprocess.run(cmd + (resumed_args or ["--scheduler", address]) + ["--trace", str(second)], cwd=tmp_path,
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     resumed = load_sweep(store)
@@ -476,15 +485,18 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, cli
     assert max((ends(first) + again).count(i) for i in range(N)) <= 2
     runs = json.loads(resumed.attrs["runs"])
     assert runs[-1]["computed"] == N - len(done_before) and runs[-1]["resumed"] == len(done_before)
-    assert runs[-1]["scheduler"] == f"Dask scheduler {address}"
+    assert runs[-1]["executor"] == path
+    if path == "dask":
+        assert runs[-1]["scheduler"] == f"Dask scheduler {address}"
 
 
-def test_ctrl_c_to_the_process_group_is_one_line_from_the_client(tmp_path):
-    """Ctrl-C at a terminal reaches every process of the group: the workers of the sweep's own local
-    cluster leave it to the client (no traceback of theirs), which says one line and exits 130."""
+@pytest.mark.parametrize("path", list(PATHS))
+def test_ctrl_c_to_the_process_group_is_one_line_from_the_client(tmp_path, path):
+    """Ctrl-C at a terminal reaches every process of the group: the workers of the sweep's own pool or
+    local cluster leave it to the client (no traceback of theirs), which says one line and exits 130."""
     (tmp_path / "slow.toml").write_text('base = "paper-dry"\n[set]\n"solver.t_end" = 1.0\n'
                                         '[vary]\n"solver.max_step" = [1e-6, 1.1e-6, 1.2e-6, 1.3e-6]\n')
-    proc = subprocess.Popen([sys.executable, "-m", "lubelink", "sweep", "slow.toml", "-o", "s.zarr", "--workers", "2"],
+    proc = subprocess.Popen([sys.executable, "-m", "lubelink", "sweep", "slow.toml", "-o", "s.zarr", *PATHS[path][0]],
                             cwd=tmp_path, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     end = time.monotonic() + 120
@@ -535,6 +547,107 @@ def test_a_worker_killed_mid_point_is_rescheduled_and_nothing_is_lost(client, tm
 
 
 
+
+def test_a_pool_worker_killed_mid_point_is_computed_again_and_nothing_is_lost(tmp_path):
+    """The process pool's counterpart of Dask's rescheduling: a worker killed while it computes breaks
+    the pool; the points in flight are computed again on a new pool, every point stored once."""
+    data = sweep_dict(**{"mechanism.crank_speed": [20.0, 25.0, 30.0, 35.0]})
+    data["set"].update({"beam.modes": 7, "solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-16,
+                        "solver.t_end": 0.5})
+    trace = tmp_path / "trace.log"
+    killed = []
+
+    def kill_first_worker_that_starts_a_point():
+        deadline = time.monotonic() + 120
+        while not killed and time.monotonic() < deadline:
+            for line in (trace.read_text().splitlines() if trace.exists() else []):
+                _, pid, event, _, flat = line.split()
+                if event == "start" and int(pid) != os.getpid():
+                    os.kill(int(pid), signal.SIGKILL)
+                    killed.append(int(flat))
+                    break
+            time.sleep(0.01)
+
+    killer = threading.Thread(target=kill_first_worker_that_starts_a_point)
+    killer.start()
+    ds = run_sweep(data, tmp_path / "w.zarr", executor="processes", workers=2, progress=False, trace=trace)
+    killer.join()
+    assert killed and bool(ds.done.all()) and (ds.status == "complete").all()
+    assert sorted(ends(trace)) == [0, 1, 2, 3]  # every point stored once, the killed one included
+    starts = [line for line in trace.read_text().splitlines() if line.split()[2] == "start"]
+    assert len(starts) > 4 and json.loads(ds.attrs["runs"])[-1]["executor"] == "processes"
+
+
+def test_a_point_that_kills_its_worker_every_time_is_stored_as_worker_died(tmp_path, monkeypatch):
+    """A point that kills the pool's worker 3 times alone is stored as ``worker_died``; the others complete."""
+    from lubelink.sweep import local
+
+    calls = []
+
+    class Dying:  # a pool whose worker dies on point 1 (no process is harmed)
+        def __init__(self, workers):
+            from concurrent.futures import ThreadPoolExecutor
+
+            self.threads = ThreadPoolExecutor(1)
+
+        def submit(self, fn, flats, *args):
+            from concurrent.futures import Future
+            from concurrent.futures.process import BrokenProcessPool
+
+            calls.append(list(flats))
+            if 1 in flats:
+                fut = Future()
+                fut.set_exception(BrokenProcessPool("a worker died"))
+                return fut
+            return self.threads.submit(fn, flats, *args)
+
+        def shutdown(self, wait=True, cancel_futures=False):
+            self.threads.shutdown(wait=wait)
+
+    monkeypatch.setattr(local, "_new_pool", Dying)
+    ds = run_sweep(sweep_dict(**{"film.viscosity": [0.05, 0.1, 0.2]}), tmp_path / "d.zarr", executor="processes",
+                   workers=2, progress=False, task_seconds=0)
+    assert ds.status.values.tolist() == ["complete", "worker_died", "complete"]
+    assert "3 times" in ds.message.values[1]
+    # once beside other tasks (which break with it, then complete alone), then alone DEATHS times
+    assert sum(c == [1] for c in calls) == 1 + local.DEATHS
+
+
+def test_auto_runs_a_short_sweep_here_a_longer_on_a_pool_and_dask_where_given(monkeypatch):
+    from lubelink.sweep import execute
+
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.05, 0.1]}))
+    one = execute.serial_seconds(sp, 1)
+    assert 0 < one < 1 and execute.serial_seconds(sp, 100) == pytest.approx(100 * one)
+    monkeypatch.setattr(execute, "SERIAL_SECONDS", 10 * one)
+    assert execute.choose_executor(sp, 9, workers=2)[:2] == ("serial", 1)
+    assert execute.choose_executor(sp, 11, workers=2)[:2] == ("processes", 2)
+    assert execute.choose_executor(sp, 11, workers=1)[:2] == ("serial", 1)
+    assert execute.choose_executor(sp, 11, workers=2, dask_given=True)[0] == "dask"
+    monkeypatch.setattr(execute, "DASK_SECONDS", 20 * one)
+    kind, n, line = execute.choose_executor(sp, 21, workers=2)
+    assert (kind, n) == ("dask", 2) and line.startswith("21 point(s) on a Dask LocalCluster of 2 workers")
+    assert execute.choose_executor(sp, 1000, "serial")[:2] == ("serial", 1)
+    for bad, needle in [({"executor": "threads"}, "must be one of auto, serial, processes, dask"),
+                        ({"executor": "serial", "workers": 2}, "needs 'processes' or 'dask'"),
+                        ({"executor": "processes", "scheduler": "tcp://127.0.0.1:9"}, "needs executor 'dask'")]:
+        with pytest.raises(SweepError, match=needle):
+            run_sweep(sp, "never.zarr", progress=False, **bad)
+
+
+def test_the_serial_path_stores_what_the_pool_stores(tmp_path, capsys):
+    """The same sweep in this process and on a pool of 2 processes: the same results, the choice printed
+    (one line) and recorded in the store's runs."""
+    data = {**sweep_dict(**{"film.viscosity": [0.001, 0.1], "mechanism.crank_speed": [20.0, 40.0]}),
+            "store": {"quantities": QUANTITIES, "time_series": ["u2_mid"]}}
+    a = run_sweep(data, tmp_path / "a.zarr", executor="serial", progress=True)
+    err = capsys.readouterr().err
+    assert "lubelink sweep: 4 point(s) in this process (asked for)" in err
+    b = run_sweep(data, tmp_path / "b.zarr", executor="processes", workers=2, progress=False)
+    same_results(a, b)
+    assert set(a.status.values.reshape(-1)) == {"complete", "film_breakdown"}
+    assert [json.loads(x.attrs["runs"])[-1]["executor"] for x in (a, b)] == ["serial", "processes"]
+
 # ====================================================================== interrupted, then called again in-process
 @contextlib.contextmanager
 def deadline(seconds, what):
@@ -577,7 +690,7 @@ RECALL = {"base": "paper-dry", "set": {**TINY, "beam.modes": 1},
 @on_cluster
 @pytest.mark.parametrize("reach, moment", [(reach, moment) for reach in ("scheduler", "client")
                                            for moment in ("first submit", "refill", "store write", "waiting")]
-                         + [("workers", "store write")])
+                         + [("workers", "store write"), ("serial", "store write"), ("processes", "store write")])
 def test_a_sweep_interrupted_then_called_again_in_the_same_process(client, tmp_path, monkeypatch, reach, moment):
     """Ctrl-C in a notebook, then the same call again: it finishes, computes only the missing points,
     and the interrupted call leaves no task and no process behind. The sweep reaches Dask with a
@@ -592,7 +705,8 @@ def test_a_sweep_interrupted_then_called_again_in_the_same_process(client, tmp_p
     sp = read_sweep(RECALL)
     store, first, second = tmp_path / "r.zarr", tmp_path / "first.log", tmp_path / "second.log"
     reach_dask = {"scheduler": {"scheduler": client.scheduler.address}, "client": {"client": client},
-                  "workers": {"workers": 1}}[reach]
+                  "workers": {"workers": 1, "executor": "dask"}, "serial": {"executor": "serial"},
+                  "processes": {"executor": "processes", "workers": 2}}[reach]
     processes = set(multiprocessing.active_children())
     interrupt = {"on": False}
 
@@ -713,6 +827,8 @@ def test_plot_sweep_draws_maps_curves_and_status(reference, tmp_path, capsys):
     (["sweep", "missing.toml"], "no such file"),
     (["sweep", "s.toml", "--workers", "two"], "--workers two"),
     (["sweep", "s.toml", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+    (["sweep", "s.toml", "--executor", "serial", "--workers", "2"], "--workers 2 needs --executor processes or dask"),
+    (["sweep", "s.toml", "--executor", "processes", "--scheduler", "tcp://127.0.0.1:1"], "needs --executor dask"),
     (["sweep", "bad.toml"], "did you mean 'film.viscosity'"),
     (["sweep", "s.toml", "-o", "/nonexistent-dir/r.zarr"], "does not exist"),
     (["plot-sweep", "nothing.zarr"], "no such sweep store"),
@@ -833,7 +949,7 @@ def test_a_store_this_run_created_is_removed_if_nothing_was_computed(tmp_path, m
 
     monkeypatch.setattr(execute, "_dask_client", no_cluster)
     with pytest.raises(SweepError, match="no cluster today"):
-        run_sweep(sweep_dict(**{"film.viscosity": [0.1]}), tmp_path / "r.zarr", progress=False)
+        run_sweep(sweep_dict(**{"film.viscosity": [0.1]}), tmp_path / "r.zarr", progress=False, executor="dask")
     assert list(tmp_path.iterdir()) == []
 
 
