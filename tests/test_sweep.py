@@ -198,6 +198,54 @@ def test_the_regime_reads_contact_then_the_asperities_share_of_the_film_force():
     assert regime(run("film_breakdown", film_force=[1.0])) == "contact"
 
 
+@pytest.mark.parametrize("base, overrides", [
+    ("paper", {}),                                                        # full film
+    ("paper", {"film.viscosity": 0.001, "mechanism.crank_speed": 40.0}),  # ends at a film breakdown
+    ("paper", {"film.roughness": 0.3e-6, "film.clearance": 20e-6}),       # rough surfaces
+    ("paper", {"film.cavitation": "reynolds", "beam.modes": 3}),          # Swift-Stieber, 3 modes
+    ("paper-dry", {"contact.law": "compliant"}),                          # no film, compliant contact
+    ("paper-impact", {"contact.law": "compliant"}),                       # impacts (compliant contact)
+])
+def test_the_fast_reductions_equal_the_results_path(base, overrides):
+    """Second method: each quantity a sweep reduces from the run's arrays (``reduce_run``) equals the
+    summary of the run's results (``collect`` then ``summarise``), for every quantity it covers."""
+    from lubelink.config import resolve
+    from lubelink.results import collect
+    from lubelink.simulate import run
+    from lubelink.sweep.compute import FAST, fast_reducible, reduce_run
+
+    config = resolve(base, {**TINY, "solver.t_end": 0.3, **overrides})
+    result = run(config)
+    opts = _TaskOptions(tuple(sorted(FAST)), (), 4, 0, config.solver.output_step, "t")
+    assert fast_reducible(result.model, opts)
+    fast = reduce_run(result, opts.quantities, opts.max_impacts)
+    slow = summarise(collect(result), opts.quantities, opts.max_impacts)
+    assert fast.keys() == slow.keys()
+    for name, want in slow.items():
+        got = fast[name]
+        if isinstance(want, float) and math.isnan(want):
+            assert math.isnan(got), name
+        elif isinstance(want, list):
+            np.testing.assert_array_equal(got, want, err_msg=name)
+        else:
+            assert got == want, name
+    if base == "paper-impact":
+        assert fast["impact_count"] > 0 or fast["peak_film_force"] > 0  # (a case with contact)
+
+
+def test_points_that_store_series_or_other_quantities_keep_the_results_path():
+    from lubelink.config import resolve
+    from lubelink.simulate import run
+    from lubelink.sweep.compute import fast_reducible
+
+    model = run(resolve("paper", TINY)).model
+    opts = _TaskOptions(("peak_u2_mid",), (), 4, 0, 1e-3, "t")
+    assert fast_reducible(model, opts)
+    assert not fast_reducible(model, opts._replace(time_series=("u2_mid",)) if hasattr(opts, "_replace")
+                              else _TaskOptions(("peak_u2_mid",), ("u2_mid",), 4, 101, 1e-3, "t"))
+    assert not fast_reducible(model, _TaskOptions(("peak_u2_mid", "regime"), (), 4, 0, 1e-3, "t"))
+    assert not fast_reducible(run(resolve("paper-impact", TINY)).model, opts)  # restitution: penetration check
+
 def test_a_point_that_raises_is_a_failed_record():
     opts = _TaskOptions(("peak_u2_mid", "impact_count"), (), 3, 0, 1e-3, "x")
     record, series = _compute_point(0, None, opts)  # no configuration: the simulation raises

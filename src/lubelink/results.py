@@ -63,6 +63,17 @@ class Run:
 PRESSURE_NODES = 4
 
 
+def collar_of(model, t):
+    """``(x_star, V_r)`` of the samples ``t``: the collar's position [m] and relative speed [m/s]."""
+    from .link.kinematics import collar_many
+
+    if model.compiled and model.params.spatial is None and model.motion.table() is not None:
+        return collar_many(np.ascontiguousarray(t), model.params.motion)
+    kin = model.motion(t)
+    return (np.ascontiguousarray(np.broadcast_to(kin.x_star, t.shape), dtype=float),
+            np.ascontiguousarray(np.broadcast_to(kin.V_r, t.shape), dtype=float))
+
+
 @lru_cache(maxsize=1)
 def versions():
     """``(lubelink version, the versions string of the attrs)``, looked up once per process."""
@@ -192,7 +203,6 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     """
     from . import beam, contact, derived, film
     from .config import to_toml
-    from .link.kinematics import collar_many
     from .link.model import thinnest_many
 
     want = VARIABLES.keys() if variables is None else set(variables)
@@ -209,12 +219,7 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
     q, q_dot = np.ascontiguousarray(y[:, :N]), np.ascontiguousarray(y[:, N:])
     x = np.linspace(0.0, L, cfg.output.x_points)
     compiled = model.compiled
-    if compiled and model.params.spatial is None and model.motion.table() is not None:
-        x_star, V_r = collar_many(t, p.motion)
-    else:
-        kin = model.motion(t)
-        x_star = np.ascontiguousarray(np.broadcast_to(kin.x_star, t.shape), dtype=float)
-        V_r = np.ascontiguousarray(np.broadcast_to(kin.V_r, t.shape), dtype=float)
+    x_star, V_r = collar_of(model, t)
     data = {
         "q": _entry("q", q),
         "q_dot": _entry("q_dot", q_dot),

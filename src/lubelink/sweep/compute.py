@@ -156,16 +156,96 @@ _SOURCES = {"peak_u2_mid": ("u2_mid",), "peak_pressure": ("pressure",), "min_fil
             "peak_slider_pin_force": ("slider_pin_force",)}
 
 
+#: Quantities :func:`reduce_run` takes from the integrator's arrays (no :class:`~lubelink.results.Results`).
+FAST = frozenset({"peak_u2_mid", "impact_count", "first_impact_time", "impact_times", "min_film", "peak_film_force",
+                  "peak_pressure", "end_time", "nfev"})
+
+
+def fast_reducible(model, opts) -> bool:
+    """Whether :func:`reduce_run` gives ``opts``'s record of a run of ``model``: no time series stored,
+    only quantities of :data:`FAST`, the compiled planar model with the 1-D film (or none) and a
+    contact law whose run needs no penetration check of the samples (not ``restitution``)."""
+    cfg = model.config
+    return (not opts.time_series and set(opts.quantities) <= FAST and model.compiled
+            and model.params.spatial is None and cfg.contact.law != "restitution"
+            and (not cfg.film.enabled or cfg.film.reynolds == "1d"))
+
+
+def reduce_run(result, quantities, max_impacts):
+    """The record of one run (:func:`summarise`'s) straight from its arrays, without the results.
+
+    The same kernels as :func:`lubelink.results.collect` on the same samples, each reduced at
+    once: ``max |u2(L/2)|``, the thinnest film, the peak film force and pad pressure; the impacts,
+    the end time and the evaluations from the run. Only where :func:`fast_reducible`.
+    """
+    from .. import film
+    from ..beam import deflection
+    from ..film.force import film_force_many
+    from ..link.model import thinnest_many
+    from ..results import PRESSURE_NODES, collar_of
+
+    model = result.model
+    cfg, p = model.config, model.params
+    L, N = cfg.mechanism.rod_length, model.modes
+    t = np.ascontiguousarray(result.t)
+    y = np.ascontiguousarray(model.planar_state(np.asarray(result.y)))
+    q, q_dot = np.ascontiguousarray(y[:, :N]), np.ascontiguousarray(y[:, N:])
+    collar = []
+
+    def kin():
+        if not collar:
+            collar.extend(collar_of(model, t))
+        return collar
+
+    def peak(values):
+        return float(np.nanmax(np.abs(values))) if values.size else math.nan
+
+    fm = cfg.film
+    times = [i[0] for i in result.impacts]
+    compute = {
+        "peak_u2_mid": lambda: peak(deflection(q, np.array([0.5 * L]), L)[:, 0]),
+        "impact_count": lambda: len(times),
+        "first_impact_time": lambda: float(times[0]) if times else math.nan,
+        "impact_times": lambda: [float(x) for x in times[:max_impacts]]
+                                + [math.nan] * (max_impacts - min(len(times), max_impacts)),
+        "min_film": lambda: float(np.nanmin(thinnest_many(kin()[0], y, p))) if t.size and
+        (fm.enabled or cfg.contact.law != "none") else math.nan,
+        "peak_film_force": lambda: peak(film_force_many(q, q_dot, *kin(), p.film, p.beam.width, p.pad, L))
+        if fm.enabled else math.nan,
+        "peak_pressure": lambda: _peak_pressure(model, q, q_dot, *kin(), film, PRESSURE_NODES) if fm.enabled
+        else math.nan,
+        "end_time": lambda: float(t[-1]) if t.size else math.nan,
+        "nfev": lambda: int(result.nfev),
+    }
+    out = {"status": str(result.status), "message": str(result.message), "wall_time": float(result.wall_time)}
+    for name in quantities:
+        out[name] = compute[name]()
+    return out
+
+
+def _peak_pressure(model, q, q_dot, x_star, V_r, film, nodes):
+    """``max |P - p_am|`` [Pa] over the samples and the pad points, on the film's first side."""
+    cfg, fm = model.config, model.config.film
+    L = cfg.mechanism.rod_length
+    X = np.linspace(0.0, fm.pad_length, cfg.output.pad_points)
+    tables = film.pressure_points(X, model.modes, L, nodes, fm.grid_points if fm.cavitation == "reynolds" else 0)
+    P = film.pad_pressure_many(X, q, q_dot, x_star, V_r, float(model.sides[0]), model.params.film, L, *tables)
+    return float(np.nanmax(np.abs(P))) if P.size else math.nan
+
+
 def _simulate_point(config, opts):
-    """The results of one point, only the variables it summarises and stores: the sweep's only call
-    of the simulation core. In one thread: a worker's other cores belong to the other workers (a
+    """The results of one point, only the variables it summarises and stores (or the run itself where
+    :func:`reduce_run` makes its record): the sweep's only call of the simulation core. In one thread: a worker's other cores belong to the other workers (a
     second thread for the pad pressure made a 2-worker sweep on 2 cores about 5 % slower). Without
     the configuration's TOML text in its attributes: the store records the sweep."""
     from ..results import collect
     from ..simulate import run
 
+    result = run(config)
+    if fast_reducible(result.model, opts):
+        return result
     wanted = {v for q in opts.quantities for v in _SOURCES.get(q, ())} | set(opts.time_series)
-    return collect(run(config), variables=wanted, threads=1, config_text=False)
+    return collect(result, variables=wanted, threads=1, config_text=False)
 
 
 def _compute_point(flat, config, opts, trace=None):
@@ -180,7 +260,11 @@ def _compute_point(flat, config, opts, trace=None):
     series = {}
     try:
         ds = _simulate_point(config, opts)
-        record = summarise(ds, opts.quantities, opts.max_impacts)
+        if hasattr(ds, "model"):  # a run whose record comes from its arrays
+            record = reduce_run(ds, opts.quantities, opts.max_impacts)
+            ds = None
+        else:
+            record = summarise(ds, opts.quantities, opts.max_impacts)
         for name in opts.time_series:
             series[name] = _sample(ds, name, opts.n_time, opts.output_step)
     except Exception as exc:  # noqa: BLE001 - a failing point is data, the sweep goes on

@@ -69,6 +69,41 @@ def _main_not_rerun():
         main.__spec__ = spec
 
 
+def _hold_sigint():
+    """Hold Ctrl-C back while processes start; returns what lets it through again.
+
+    Ctrl-C at a terminal reaches the whole process group. SIGINT is blocked in the calling (main)
+    thread: the processes started meanwhile (the pool's forkserver and workers, the local
+    cluster's, by threads started meanwhile) inherit the blocked mask, so the signal reaches this
+    process alone, which stops the sweep and its workers, instead of each worker printing its own
+    KeyboardInterrupt traceback. Another thread of this process (Zarr's I/O loop) may still take
+    the signal for the process, and Python then runs its handler in the main thread: meanwhile the
+    handler only notes it. A Ctrl-C pressed while held waits, and is raised when let through (by
+    the handler that was in place).
+    """
+    import signal
+    import threading
+    from multiprocessing import resource_tracker
+
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    resource_tracker.ensure_running()  # now: the thread that starts it later unblocks SIGINT as it does
+    pressed = []
+    handler = signal.getsignal(signal.SIGINT)
+    if callable(handler):
+        signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+
+    def release():
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)  # one pending is noted now
+        if callable(handler):
+            signal.signal(signal.SIGINT, handler)
+            if pressed:
+                handler(signal.SIGINT, None)
+
+    return release
+
+
 class _Queue:
     """The pending flat indices (a NumPy array) consumed from the front, as ``deque`` would be;
     a large sweep keeps one integer array, not a Python object per point."""
@@ -181,21 +216,43 @@ def _context():
 
 
 def _new_pool(workers):
+    """A pool of ``workers`` processes, all started now with SIGINT blocked (its forkserver too, and so
+    every worker, forked from it): Ctrl-C at a terminal, which reaches the whole process group, is
+    this process's alone, and it cannot cut a worker's start in half (a worker started after the
+    pool's queues are gone prints a traceback). A Ctrl-C pressed meanwhile is raised once the
+    workers are up, and stops them."""
     from concurrent.futures import ProcessPoolExecutor
 
-    return ProcessPoolExecutor(workers, mp_context=_context(), initializer=_worker_init)
+    ctx = _context()
+    held = _hold_sigint()
+    pool = None
+    try:
+        if ctx.get_start_method() == "forkserver":
+            from multiprocessing import forkserver
+
+            forkserver.ensure_running()
+        pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_worker_init)
+        getattr(pool, "_launch_processes", lambda: None)()  # (CPython 3.9+; else started on demand)
+    finally:
+        try:
+            held()
+        except BaseException:
+            if pool is not None:
+                _stop(pool)
+            raise
+    return pool
 
 
 def _stop(pool):
     """Stop a pool at once: queued tasks cancelled, its processes terminated (an interruption)."""
     procs = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for p in procs:
+    for p in procs:  # first: a worker still starting must not find the pool's queues gone (a traceback of its own)
         with contextlib.suppress(Exception):
             p.terminate()
     for p in procs:
         with contextlib.suppress(Exception):
             p.join(5.0)
+    pool.shutdown(wait=False, cancel_futures=True)
 
 
 def run_pool(sp, pending, opts, trace, tally, workers, task_seconds):

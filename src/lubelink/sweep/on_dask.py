@@ -15,7 +15,7 @@ import time
 import uuid
 
 from .compute import _compute_points, _describe, _empty_record
-from .local import Batcher, _cpu_count, _main_not_rerun
+from .local import Batcher, _cpu_count, _hold_sigint, _main_not_rerun
 from .schema import SweepError
 
 __all__ = ["LOCAL_CLUSTER_CONFIG"]
@@ -37,26 +37,6 @@ LOCAL_CLUSTER_CONFIG = {
     "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
 }
 
-
-
-def _hold_sigint():
-    """Block SIGINT in the calling (main) thread; returns what restores the mask.
-
-    Ctrl-C at a terminal reaches the whole process group. The local cluster's processes, started
-    meanwhile (by threads started meanwhile), inherit the blocked mask: the signal reaches the client
-    alone, which stops the sweep and closes the cluster, instead of each worker printing its own
-    KeyboardInterrupt traceback. A Ctrl-C pressed while the mask is held waits, and is raised when
-    it is restored.
-    """
-    import signal
-    import threading
-    from multiprocessing import resource_tracker
-
-    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
-        return lambda: None
-    resource_tracker.ensure_running()  # now: the thread that starts it later unblocks SIGINT as it does
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    return lambda: signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 @contextlib.contextmanager
