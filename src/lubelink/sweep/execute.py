@@ -39,11 +39,12 @@ log = logging.getLogger(__name__)
 #: ``run_sweep(executor=...)`` and ``lubelink sweep --executor``.
 EXECUTORS = ("auto", "serial", "processes", "dask")
 #: ``executor="auto"`` runs a sweep in the calling process when its points' estimated time
-#: (:func:`lubelink.estimate.run_cost`, one process) is under this [s]: a pool of 2 workers started
-#: later than the calling process's first point by about this much (benchmarks/README.md).
-SERIAL_SECONDS = 2.0
+#: (:func:`lubelink.estimate.run_cost`, one process) is under this [s]. Measured (whole command,
+#: ``paper``, 2 cores): this process 3.9 s + 10.3 ms a point, a pool of 2 workers 6.8 s + 4.9 ms a
+#: point; the pool overtakes from about 540 points, estimated at 0.84 s (docs/sweeps.md).
+SERIAL_SECONDS = 1.0
 #: ``executor="auto"`` runs a sweep on a Dask ``LocalCluster`` when its points' estimated time is
-#: over this [s] (inf: never; a process pool is faster at every size measured, benchmarks/README.md).
+#: over this [s] (inf: never; a process pool was faster at every size measured, docs/sweeps.md).
 DASK_SECONDS = math.inf
 
 

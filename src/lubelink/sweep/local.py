@@ -24,9 +24,9 @@ __all__ = ["run_serial", "run_pool", "Tally", "Batcher", "POOL_CONTEXT", "DEATHS
 
 #: Start method of the pool's processes: ``forkserver`` (a server process imports lubelink once,
 #: each worker is a fork of it: no copy of a parent's threads, 0.04 s to shut down) where it
-#: exists, else ``spawn``. Measured on 2 cores, first results of 2 workers (imports and the
-#: kernels loaded from Numba's cache): ``spawn`` 3.7-5.7 s, ``forkserver`` 3.5-4.6 s (shutdown
-#: 1.0-1.3 s against 0.04 s), benchmarks/README.md.
+#: exists, else ``spawn``. Measured on 2 loaded cores, first results of 2 workers (imports and the
+#: kernels loaded from Numba's cache), two runs: ``spawn`` 3.7-5.7 s and 1.0-1.3 s to shut down,
+#: ``forkserver`` 3.5-4.6 s and 0.04 s (``fork`` 2.4-3.4 s, but unsafe beside threads).
 POOL_CONTEXT = "forkserver"
 #: Modules the forkserver imports once for all its workers.
 PRELOAD = ["lubelink.sweep.compute", "lubelink.simulate", "lubelink.results"]
