@@ -53,18 +53,22 @@ def grid(n):
     return a, n // a
 
 
-def command(folder, n, executor, workers):
-    """Wall time [s] of one ``lubelink sweep`` process, and how many points completed."""
+def command(folder, n, executor, workers, other=None):
+    """Wall time [s] of one ``lubelink sweep`` process, how many points completed and on what.
+
+    ``other``: the ``src`` folder of another checkout, whose ``lubelink sweep`` (without
+    ``--executor``: one from before it) runs instead."""
     a, b = grid(n)
     toml = Path(folder) / f"s{n}.toml"
     toml.write_text(SWEEP.format(a=a, b=b))
     out = Path(folder) / f"s{n}-{executor}.zarr"
-    cmd = [sys.executable, "-m", "lubelink", "sweep", str(toml), "-o", str(out), "-q", "--executor", executor,
-           "--max-points", str(max(n, 100_000))]
+    cmd = [sys.executable, "-m", "lubelink", "sweep", str(toml), "-o", str(out), "-q",
+           "--max-points", str(max(n, 100_000))] + ([] if other else ["--executor", executor])
     if workers and executor != "serial":
         cmd += ["--workers", str(workers)]
+    env = {**os.environ, "PYTHONPATH": str(Path(other).resolve())} if other else None
     t0 = time.perf_counter()
-    r = subprocess.run(cmd, capture_output=True, text=True)
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
     if r.returncode not in (0, 1):
         raise SystemExit(f"{' '.join(cmd)} failed:\n{r.stderr[-2000:]}")
@@ -76,7 +80,7 @@ def command(folder, n, executor, workers):
     status = g["status"][...].reshape(-1)
     runs = json.loads(g.attrs["runs"])
     shutil.rmtree(out)
-    return wall, int((status == "complete").sum()), runs[-1].get("executor", "?")
+    return wall, int((status == "complete").sum()), runs[-1].get("executor", "before")
 
 
 def single_runs(n_sample):
@@ -120,9 +124,12 @@ def main(argv=None):
                         help="comma-separated --executor values (default auto,serial,processes,dask)")
     parser.add_argument("--workers", type=int, default=0, help="--workers of the commands (default: one per core)")
     parser.add_argument("--sample", type=int, default=200, help="points timed as single simulate() calls")
+    parser.add_argument("--compare-with", metavar="SRC",
+                        help="also run the lubelink sweep of another checkout's src folder (an older one: "
+                             "its default executor), a row 'before'")
     args = parser.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")] + ([10000] if args.large else [])
-    executors = args.executors.split(",")
+    executors = args.executors.split(",") + (["before"] if args.compare_with else [])
     print(f"paper, film.viscosity x film.clearance, 2 quantities; sizes {sizes}; {os.cpu_count()} cores; "
           f"load average {os.getloadavg()[0]:.2f} at start", flush=True)
 
@@ -131,7 +138,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as folder:
         for n in sizes:
             for e in executors:
-                wall, complete, ran = command(folder, n, e, args.workers)
+                wall, complete, ran = command(folder, n, e, args.workers,
+                                              args.compare_with if e == "before" else None)
                 rows[(e, n)] = (wall, complete, ran)
                 print(f"  {n:>6} points, --executor {e:<9} ({ran}): {wall:6.2f} s, {n / wall:6.0f} points/s, "
                       f"{complete} complete; load average {os.getloadavg()[0]:.2f}", flush=True)
