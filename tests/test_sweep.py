@@ -381,18 +381,20 @@ import lubelink
 with open("ran.log", "a") as f:  # once per run of this file
     f.write(f"{os.getpid()}\\n")
 ds = lubelink.run_sweep({"base": "paper", "set": {"solver.t_end": 0.05, "output.x_points": 5, "output.pad_points": 5},
-                         "vary": {"film.viscosity": [0.05, 0.1]}}, "s.zarr", workers=2, progress=False)
+                         "vary": {"film.viscosity": [0.05, 0.1]}}, "s.zarr", workers=2, progress=False,
+                        executor=EXECUTOR)
 print("stored", int(ds.done.sum()), "of", ds.done.size)
 """
 
 
-@pytest.mark.parametrize("how", ["script", "module"])
-def test_run_sweep_from_a_script_without_a_main_guard_runs_the_script_once(tmp_path, how):
+@pytest.mark.parametrize("how, executor", [("script", "dask"), ("module", "dask"), ("script", "processes")])
+def test_run_sweep_from_a_script_without_a_main_guard_runs_the_script_once(tmp_path, how, executor):
     """Issue 35: a script (or a module run with -m) calling run_sweep at its top level, without
     ``if __name__ == "__main__":``, ran again in each worker that multiprocessing spawned (there
     its sweep found the store in use, and the workers failed to start). The workers now leave the
-    script alone: it runs once, and the sweep completes on its two workers."""
-    (tmp_path / "plain.py").write_text(_PLAIN_SCRIPT)
+    script alone: it runs once, and the sweep completes on its two workers (of a local Dask
+    cluster, or of the process pool)."""
+    (tmp_path / "plain.py").write_text(_PLAIN_SCRIPT.replace("EXECUTOR", repr(executor)))
     package = str(Path(lubelink.__file__).resolve().parents[1])  # this lubelink, wherever the test runs
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([package, str(tmp_path)])}
     command = [sys.executable, "plain.py"] if how == "script" else [sys.executable, "-m", "plain"]
