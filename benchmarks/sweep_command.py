@@ -60,7 +60,10 @@ def command(folder, n, executor, workers, other=None):
     ``--executor``: one from before it) runs instead."""
     a, b = grid(n)
     toml = Path(folder) / f"s{n}.toml"
-    toml.write_text(SWEEP.format(a=a, b=b))
+    from lubelink._files import atomic_path
+
+    with atomic_path(toml) as tmp:
+        Path(tmp).write_text(SWEEP.format(a=a, b=b))
     out = Path(folder) / f"s{n}-{executor}.zarr"
     cmd = [sys.executable, "-m", "lubelink", "sweep", str(toml), "-o", str(out), "-q",
            "--max-points", str(max(n, 100_000))] + ([] if other else ["--executor", executor])

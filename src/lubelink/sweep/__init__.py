@@ -1,9 +1,10 @@
-"""Parameter studies on Dask: sweeps that resume and never lose a point.
+"""Parameter studies: sweeps that resume and never lose a point.
 
 A sweep file (TOML) names a base configuration and the parameters to vary
 (lists, linear or log ranges, explicit points); every point of the full
-factorial grid is one simulation, run in Dask tasks (one point each, or a few
-when points are short). The summary quantities of each point are written to
+factorial grid is one simulation, run in the calling process, on a pool of
+worker processes or in Dask tasks (one point each, or a few when points are
+short), whichever finishes first (:func:`~.execute.choose_executor`). The summary quantities of each point are written to
 one labelled store over the swept dimensions as soon as its task finishes, so
 a crash loses nothing already stored and running the same sweep again resumes
 it. docs/sweeps.md is the reference.
@@ -17,11 +18,15 @@ module                      job
                             hash, validation of every point
 ``parse``                   sweep file -> :class:`Sweep` (:func:`read_sweep`)
 ``compute``                 one point on a worker: simulate, summarise
-                            (:func:`summarise`), sample time series
+                            (:func:`summarise`, or :func:`reduce_run` from the
+                            run's arrays), sample time series
 ``layout``                  the empty Dataset a new store is created from
 ``store``                   Zarr writer and journal, NetCDF export,
                             :func:`load_sweep`, :func:`point_config`
-``execute``                 :func:`run_sweep`: Dask client, task window
+``local``                   this process or a process pool; the commit of
+                            finished points (``Tally``) and task sizes
+``on_dask``                 the Dask client or LocalCluster, the task window
+``execute``                 :func:`run_sweep`: the store, where the points run
 ``plot``                    :func:`plot_sweep`: response map
 ``cli``                     ``sweep`` and ``plot-sweep`` subcommands
                             (:func:`register_cli`)
@@ -33,7 +38,7 @@ piece                       job
 :func:`read_sweep`          sweep file -> :class:`Sweep` (validated, hashed)
 :meth:`Sweep.point_configs` every point -> validated ``Config`` (or problems)
 :func:`summarise`           one results Dataset -> summary quantities
-:func:`run_sweep`           run the missing points on Dask, store, return all
+:func:`run_sweep`           run the missing points, store, return all
 :func:`load_sweep`          the stored results as an ``xarray.Dataset``
 :func:`point_config`        the ``Config`` of one stored point (to run it again)
 :func:`plot_sweep`          response map (heat map, curves, facets)
