@@ -208,7 +208,7 @@ def reduce_run(result, quantities, max_impacts):
         "first_impact_time": lambda: float(times[0]) if times else math.nan,
         "impact_times": lambda: [float(x) for x in times[:max_impacts]]
                                 + [math.nan] * (max_impacts - min(len(times), max_impacts)),
-        "min_film": lambda: float(np.nanmin(thinnest_many(kin()[0], y, p))) if t.size and
+        "min_film": lambda: float(np.nanmin(thinnest_many(kin()[0], y, p)[:, 0])) if t.size and
         (fm.enabled or cfg.contact.law != "none") else math.nan,
         "peak_film_force": lambda: peak(film_force_many(q, q_dot, *kin(), p.film, p.beam.width, p.pad, L))
         if fm.enabled else math.nan,
