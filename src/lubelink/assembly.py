@@ -18,7 +18,7 @@ import numpy as np
 
 from . import _jit, beam, compliant, contact, film
 
-from .link import section
+from .link import axial, section
 from .errors import BackendError
 from .film.jacobian import has_film_jacobian
 from .link.kinematics import MotionTable, SliderCrank, collar_acceleration, motion_at
@@ -106,9 +106,18 @@ def make_params(config: Config, table: MotionTable | None, cross_section=None) -
     ct = kernel_view(config.contact)
     if config.contact.law == "compliant" and config.contact.extent == "pad":  # (see contact.COMPLIANT_PAD)
         ct = ct._replace(law=contact.COMPLIANT_PAD, stiffness=float(config.contact.face_stiffness), exponent=1.0)
+    geometric = None
+    if b.axial_force == "inertial":
+        if galerkin is not None:
+            from .validation import ConfigError
+
+            raise ConfigError([f"beam.axial_force = {b.axial_force!r}: the axial force is modelled on the uniform "
+                               "link only, not with a given cross_section; use beam.axial_force = 'none'"])
+        geometric = axial.geometric_table(N, L, b.density * b.area)
     return Params(kernel_view(config.mechanism), kernel_view(config.beam), kernel_view(config.film),
                   kernel_view(config.collar), ct, kernel_view(config.model), basis, pad,
-                  table, phase, galerkin, rough=float(config.film.roughness) if config.film.roughness > 0.0 else None)
+                  table, phase, galerkin, rough=float(config.film.roughness) if config.film.roughness > 0.0 else None,
+                  geometric=geometric)
 
 
 # --- the model, from Python ------------------------------------------------------------------------------

@@ -47,6 +47,12 @@ def build_model(config: Config, motion=None, section=None) -> Model:
 
             raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' "
                                "only; set beam.model = 'spatial', or pass a planar motion (lubelink.link.kinematics)"])
+    if config.beam.axial_force != "none" and not isinstance(motion, SliderCrank):
+        from .validation import ConfigError
+
+        raise ConfigError([f"beam.axial_force = {config.beam.axial_force!r}: needs the slider-crank's motion (the "
+                           f"axial acceleration of O and the slider's guide), not {type(motion).__name__}; use "
+                           "beam.axial_force = 'none'"])
     compiled, note = _backend(config, motion)
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):
         raise BackendError(f"model.equations = {config.model.equations!r} needs v_O1, which only the "

@@ -14,7 +14,9 @@ forces [N] (the spatial link's axial block with a free end: its own modes' veloc
 * the rigid motion's inertial loads and gravity (:func:`lubelink.beam.rigid_load`; the spatial
   link's :func:`lubelink.link.spatial.rigid_loads`), and the link frame's Euler, centrifugal and
   Coriolis accelerations of the deflection (planar: the centrifugal softening ``omega^2 q``;
-  spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work);
+  spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work), and the geometric
+  stiffness of the rigid motion's axial force (``beam.axial_force``, :mod:`lubelink.link.axial`: a stiffness
+  that changes in time, so a load that works rather than a potential);
 * the structural damping, ``-2 zeta m sum W_i eta_dot_i^2 <= 0``;
 * the film, the asperity contact (on each pair of faces, :mod:`lubelink.link.faces`), the joint
   reaction of the collar;
@@ -46,7 +48,7 @@ from .integrate.cumulative import cumulative_simpson
 from .link import section, spatial, spatial_section
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
-from .link.model import effective_acceleration, stiffened
+from .link.model import geometric_on, effective_acceleration, stiffened
 from .link.spatial_model import U2_U3
 from .link.spatial_model import effective_acceleration as spatial_effective_acceleration
 from .link.spatial_motion import spatial_motion_at
@@ -103,10 +105,20 @@ def _rigid_power(g, y, yq, A_eff, alpha, softening, p):
 
 
 @jitable
-def powers_given(kin, yq, p, out):
+def _geometric_power(g, t, kin, q, q_dot, p):
+    """The power [W] of the axial force's geometric stiffness on the planar link (``g`` None: none, compiled out)."""
+    if g is None:
+        return 0.0
+    F = np.zeros(q.shape[0])
+    geometric_on(g, t, kin, q, p, F)
+    return np.dot(q_dot, F)
+
+
+@jitable
+def powers_given(t, kin, yq, p, out):
     """The vibration energy [J] into ``out[0]`` and the powers [W] of :data:`LOADS` into ``out[1:]``.
 
-    ``kin`` the rigid motion (:class:`~lubelink.link.kinematics.RigidMotion`), ``yq`` the sine-mode state
+    ``t`` [s] the time, ``kin`` the rigid motion (:class:`~lubelink.link.kinematics.RigidMotion`), ``yq`` the sine-mode state
     of the planar link (of a variable section too). The contact force is not among them (:func:`budget`
     adds it).
     """
@@ -120,7 +132,8 @@ def powers_given(kin, yq, p, out):
     _oscillators(y, p.basis.omega_n, p.beam.damping_ratio, p.basis.modal_mass, out)
     A_eff = effective_acceleration(kin.A_O2, omega, kin.angle, kin.v_O1, p.mechanism.gravity, p.model.equations)
     softening = -omega * omega if stiffened(p.model.equations) else omega * omega
-    out[1] = _rigid_power(p.galerkin, y, yq, A_eff, alpha, softening, p)
+    out[1] = (_rigid_power(p.galerkin, y, yq, A_eff, alpha, softening, p)
+              + _geometric_power(p.geometric, t, kin, q, q_dot, p))
     _face_powers(q, q_dot, x_star, V_r, p, p.beam.width, out)
     if reaction != 0.0:
         for n in range(N):
@@ -195,7 +208,7 @@ def powers_many(t, y, p):
 def _powers_at(table, t, yq, p, out):
     """:func:`powers_given` at ``t`` [s], or :func:`spatial_powers_given` with the spatial ``table``."""
     if table is None:
-        powers_given(motion_at(t, p.motion), yq, p, out)
+        powers_given(t, motion_at(t, p.motion), yq, p, out)
     else:
         spatial_powers_given(spatial_motion_at(t, table.motion), yq, p, out)
 
@@ -281,7 +294,7 @@ def _table(model, t, y):
     table = np.empty((t.size, 1 + len(LOADS)))
     for i in range(t.size):  # a motion of callables: its kinematics from Python
         if model.params.spatial is None:
-            powers_given(model.kinematics(t[i]), y[i], model.params, table[i])
+            powers_given(t[i], model.kinematics(t[i]), y[i], model.params, table[i])
         else:
             spatial_powers_given(model.motion.at(t[i]), y[i], model.params, table[i])
     return table

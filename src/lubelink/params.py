@@ -42,6 +42,7 @@ CHOICES = {
     "film.width_series": ("fitted", "sine"),
     "beam.model": ("planar", "spatial"),
     "beam.axial_end": ("fixed", "free"),
+    "beam.axial_force": ("none", "inertial"),
     "contact.law": ("none", "restitution", "compliant"),
     "contact.extent": ("point", "pad"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
@@ -77,6 +78,8 @@ FIELDS = {
                                              "compares the peak bending stress with it"),
     "beam.axial_end": ("", "", "spatial model: u1 at the slider end, free (no axial force: a massless frictionless "
                                "slider) or fixed (u1(L) = 0); docs/spatial.md"),
+    "beam.axial_force": ("", "N", "planar uniform link: none (paper), or inertial: the axial force of the rigid "
+                                  "motion's inertia, gravity and the slider, and its geometric stiffness (N u2')'"),
     "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
     "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
     "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),
@@ -203,6 +206,11 @@ class Beam:
         frictionless slider pushes only normal to its guide), the fixed-free bar's modes
         ``sin((2 n - 1) pi x / (2 L))``; ``"fixed"``: ``u1(L) = 0``, the fixed-fixed bar's
         ``sin(n pi x / L)``. ``u1(0) = 0`` either way (the crank pin).
+    axial_force : str
+        The axial force ``N(x, t)`` in the link and its geometric stiffness ``(N u2')'`` (docs/model.md §1.4):
+        ``"none"`` (the paper: dropped) or ``"inertial"``, the axial force of the link's inertia in its rigid
+        motion, gravity and the slider's reaction (:mod:`lubelink.link.axial`). The planar uniform link under
+        the slider-crank only.
     """
 
     youngs_modulus: float = 207e9
@@ -216,6 +224,7 @@ class Beam:
     model: str = "planar"
     yield_strength: float = math.inf
     axial_end: str = field(default="free", metadata={"kernel": False})  # (compiled code: SpatialTable.axial)
+    axial_force: str = field(default="none", metadata={"kernel": False})  # (compiled code: Params.geometric)
 
     @property
     def area(self) -> float:

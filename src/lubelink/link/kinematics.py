@@ -39,6 +39,7 @@ __all__ = [
     "sampled_motion",
     "collar_travel",
     "collar_acceleration",
+    "pin_axial_acceleration",
 ]
 
 #: ``MotionTable.kind`` of the closed-form slider-crank and of a sampled (spline) motion.
@@ -215,6 +216,17 @@ def _motion(t, m, knots, coef):
                        piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
                        piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
                        piecewise_cubic(t, knots, coef, 6), np.nan)
+
+
+@jitable
+def pin_axial_acceleration(t, angle, crank_length, crank_speed):
+    """``A_O1 = a_O . i`` [m/s^2]: the crank pin O's acceleration along the link, for the slider-crank.
+
+    O turns on the crank circle, ``a_O = -OA omega0^2 (cos phi, sin phi)``, and ``i = (cos angle, sin angle)``
+    (``angle`` [rad], the link's, ``-theta``): ``A_O1 = -OA omega0^2 cos(phi - angle)``, with ``t`` [s],
+    ``crank_length`` [m], ``crank_speed`` [rad/s]. (Its ``j`` twin is ``A_O2`` of :func:`slider_crank_state`.)
+    """
+    return -crank_length * crank_speed * crank_speed * np.cos(crank_speed * t - angle)
 
 
 @kernel

@@ -5,9 +5,10 @@ modal equation (docs/model.md section 2, paper Eq. 18 corrected):
 
     q_ddot_n = -(omega_n^2 - omega^2) q_n - 2 zeta omega_n q_dot_n
                - 2/(L beta_n) {(A_O2 - g_j) [1 + (-1)^(n+1)] + alpha L (-1)^(n+1)}
-               + (F_n^film + F_n^contact + R sin(beta_n x_star)) / (rho A L / 2)
+               + (F_n^film + F_n^contact + R sin(beta_n x_star) - sum_m K_nm q_m) / (rho A L / 2)
 
-with ``g_j`` gravity along the link's ``j`` axis. Every term comes from its physics module
+with ``g_j`` gravity along the link's ``j`` axis and ``K_nm`` the geometric stiffness of the axial force
+(:mod:`.axial`; zero and compiled out unless ``beam.axial_force = "inertial"``). Every term comes from its physics module
 (:mod:`.kinematics`, :mod:`.beam`, :mod:`.film`, :mod:`.contact`); :func:`rhs`, :func:`gap` (the event
 and its rate) are what the integrators run, compiled, or as Python on the ``numpy`` backend.
 
@@ -28,10 +29,10 @@ from .._jit import jitable, kernel
 from ..beam import wavenumber
 from ..errors import BackendError
 from ..params import CHOICES
-from . import section
+from . import axial, section
 from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,
                     in_sustained, phase_side, sustained_on, thinnest_on)
-from .kinematics import MotionTable, collar_acceleration, motion_at
+from .kinematics import MotionTable, collar_acceleration, motion_at, pin_axial_acceleration
 
 __all__ = ["Params", "Basis", "ContactPhase", "rhs", "gap", "rhs_given", "BackendError"]
 
@@ -57,7 +58,8 @@ class Params(NamedTuple):
     (:class:`~lubelink.link.section.GalerkinTable`; None for a uniform link, whose state is the sine
     modes themselves); ``spatial`` the table of the spatial model (None for the planar model,
     whose kernels never read it); ``rough`` the roughness with the asperity contact (None for smooth
-    surfaces: the kernels are then compiled without it).
+    surfaces: the kernels are then compiled without it); ``geometric`` the geometric stiffness of the axial force
+    (:class:`~lubelink.link.axial.GeometricTable`; None for ``beam.axial_force = "none"``: compiled out).
     """
 
     mechanism: tuple
@@ -73,6 +75,7 @@ class Params(NamedTuple):
     galerkin: section.GalerkinTable | None = None
     spatial: tuple | None = None  # lubelink.link.spatial_model.SpatialTable
     rough: float | None = None  # film.roughness [m] with the asperity contact, None: smooth (compiled out)
+    geometric: axial.GeometricTable | None = None  # beam.axial_force = "inertial"; None: compiled out
 
 
 @jitable(inline=True)
@@ -95,6 +98,7 @@ def rhs_given(t, kin, y, out, p):
             F[n] += beam.point_load(reaction, x_star, wavenumber(n + 1, L))
     if contact.is_compliant(p.contact.law) and phase_side(p.phase) != 0.0:
         compliant_on(p.phase, q, q_dot, x_star, V_r, p, p.beam.width, F)
+    geometric_on(p.geometric, t, kin, q, p, F)
     A_eff = effective_acceleration(kin.A_O2, omega, kin.angle, kin.v_O1, p.mechanism.gravity, p.model.equations)
     stiffening = stiffened(p.model.equations)
     zeta = p.beam.damping_ratio
@@ -125,6 +129,37 @@ def effective_acceleration(A_O2, omega, angle, v_O1, gravity, equations):
     if equations == DOUBLE_COUNT or equations == PRINTED:
         A_eff += omega * v_O1
     return A_eff
+
+
+@jitable
+def axial_terms(g, t, kin, p):
+    """``(c0, c1, c2)`` of the axial force ``N(x) = c0 + c1 x + c2 x^2`` [N, N/m, N/m^2] of the slider-crank's
+    rigid motion ``kin`` at ``t`` (:func:`~lubelink.link.axial.rigid_axial_force`; ``g`` its table)."""
+    A_O1 = pin_axial_acceleration(t, kin.angle, p.motion.crank_length, p.motion.crank_speed)
+    return axial.rigid_axial_force(A_O1, kin.A_O2, kin.omega, kin.alpha, kin.angle, kin.reaction, kin.x_star,
+                                   p.mechanism.gravity, g.mass_per_length, p.basis.rod_length)
+
+
+@jitable
+def geometric_on(g, t, kin, q, p, F):
+    """Add the axial force's geometric-stiffness forces ``-K q`` [N] to the modal forces ``F`` (``g`` None:
+    ``beam.axial_force = "none"``, compiles to nothing)."""
+    if g is None:
+        return
+    c0, c1, c2 = axial_terms(g, t, kin, p)
+    axial.geometric_load(g.moments, c0, c1, c2, q, F)
+
+
+@jitable
+def _geometric_jacobian(g, t, kin, p, Jq):
+    """Subtract the geometric stiffness ``K`` [N/m] from ``Jq`` (the modal forces' ``dF/dq``; ``g`` None: nothing)."""
+    if g is None:
+        return
+    c0, c1, c2 = axial_terms(g, t, kin, p)
+    N = Jq.shape[0]
+    for m in range(N):
+        for n in range(N):
+            Jq[m, n] -= c0 * g.moments[0, m, n] + c1 * g.moments[1, m, n] + c2 * g.moments[2, m, n]
 
 
 @jitable(inline=True)
@@ -212,8 +247,9 @@ def jacobian_given(t, kin, y, J, p):
     :func:`~lubelink.film.jacobian.has_film_jacobian`: ``dq/dt = q_dot`` gives the identity block;
     the modal oscillators ``-(omega_n^2 - omega^2)`` and ``-2 zeta omega_n`` on the diagonals;
     the film and the asperity contact (:func:`~lubelink.link.faces.face_jacobian`) and the compliant contact
-    of a contact phase (:func:`~lubelink.link.faces.compliant_jacobian_on`) divided by the modal mass. The joint
-    reaction, gravity and the rigid-motion load do not depend on the state.
+    of a contact phase (:func:`~lubelink.link.faces.compliant_jacobian_on`) and the axial force's geometric
+    stiffness (``beam.axial_force``) divided by the modal mass. The joint reaction, gravity and the rigid-motion
+    load do not depend on the state.
     """
     omega, x_star, V_r = kin.omega, kin.x_star, kin.V_r
     N = p.basis.modes
@@ -225,6 +261,7 @@ def jacobian_given(t, kin, y, J, p):
     face_jacobian(q, q_dot, x_star, V_r, p, p.beam.width, Jq, Jv)
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         compliant_jacobian_on(p.phase, q, q_dot, x_star, V_r, p, Jq, Jv)
+    _geometric_jacobian(p.geometric, t, kin, p, Jq)
     Jq /= p.basis.modal_mass
     Jv /= p.basis.modal_mass
     stiffening = stiffened(p.model.equations)
