@@ -207,7 +207,7 @@ class Beam:
         ``sin((2 n - 1) pi x / (2 L))``; ``"fixed"``: ``u1(L) = 0``, the fixed-fixed bar's
         ``sin(n pi x / L)``. ``u1(0) = 0`` either way (the crank pin).
     axial_force : str
-        The axial force ``N(x, t)`` in the link and its geometric stiffness ``(N u2')'`` (docs/model.md §1.4):
+        The axial force ``N(x, t)`` in the link and its geometric stiffness ``(N u2')'`` (docs/model.md §1.5):
         ``"none"`` (the paper: dropped) or ``"inertial"``, the axial force of the link's inertia in its rigid
         motion, gravity and the slider's reaction (:mod:`lubelink.link.axial`). The planar uniform link under
         the slider-crank only.

@@ -1,4 +1,4 @@
-"""The axial force in the link from its rigid motion, and its geometric stiffness (docs/model.md §1.4).
+"""The axial force in the link from its rigid motion, and its geometric stiffness (docs/model.md §1.5).
 
 The link's rigid motion loads it along its chord ``i``: per unit length, the d'Alembert force of the axial
 rigid acceleration ``a_1(x) = A_O1 - omega^2 x`` and gravity, ``p_1(x) = rho A (g_1 - A_O1 + omega^2 x)``.
