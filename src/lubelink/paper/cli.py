@@ -68,7 +68,7 @@ def _cmd_figures(args):
 
 
 def _cmd_animate(args):
-    from ..cli import resolve_args
+    from ..cli_io import resolve_args
     from ..config import ConfigError
 
     _, config = resolve_args(args)

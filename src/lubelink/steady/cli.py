@@ -163,8 +163,8 @@ def _cmd_periodic(args):
 
     import numpy as np
 
-    from ..cli import resolve_args
-    from ..cli import _write_results
+    from ..cli_io import resolve_args
+    from ..cli_io import write_results as _write_results
     from .orbit import find_periodic, orbit_results
     from .shooting import ShootingError
 
@@ -220,8 +220,8 @@ def _cmd_periodic(args):
 def _cmd_continue(args):
     import time
 
-    from ..cli import resolve_args
-    from ..cli import _write_results
+    from ..cli_io import resolve_args
+    from ..cli_io import write_results as _write_results
     from ..results import dataset
     from .branch import branch_results, find_branch
     from .shooting import MapFailure, ShootingError
