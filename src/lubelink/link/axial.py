@@ -24,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._jit import jitable
+from ..beam import wavenumber
 
 __all__ = ["GeometricTable", "slope_moments", "slider_end_force", "axial_force_terms", "rigid_axial_force",
            "axial_force", "geometric_stiffness", "geometric_load", "geometric_table"]
@@ -42,7 +43,7 @@ def _cosine_moment(k, j, rod_length):
     L = rod_length
     if j == 0:
         return L ** (k + 1) / (k + 1)
-    s = j * np.pi / L
+    s = wavenumber(j, L)
     sign = -1.0 if j % 2 else 1.0  # cos(j pi)
     return (0.0, (sign - 1.0) / s**2, 2.0 * L * sign / s**2)[k]
 
@@ -58,7 +59,7 @@ def slope_moments(modes, rod_length):
     for k in range(3):
         for m in range(1, modes + 1):
             for n in range(1, modes + 1):
-                bm, bn = m * np.pi / rod_length, n * np.pi / rod_length
+                bm, bn = wavenumber(m, rod_length), wavenumber(n, rod_length)
                 P[k, m - 1, n - 1] = 0.5 * bm * bn * (_cosine_moment(k, abs(m - n), rod_length)
                                                       + _cosine_moment(k, m + n, rod_length))
     return P
