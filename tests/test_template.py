@@ -13,7 +13,8 @@ from hypothesis import strategies as st
 import lubelink
 from lubelink.cli import main
 from lubelink.config import RULES, SCENARIOS, from_dict, resolve
-from lubelink.params import FIELDS, SECTION_TYPES
+from lubelink.fields import FIELDS
+from lubelink.params import SECTION_TYPES
 from lubelink.template import comment, template
 
 

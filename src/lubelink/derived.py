@@ -145,7 +145,7 @@ def reactions_apply(model):
     return ""
 
 
-def joint_reactions(result, t, y, losses, data):
+def joint_reactions(result, t, y, losses, data, thinnest=None):
     """The forces of the crank pin, the slider pin and the collar on the link and the guide's force on the collar's
     member [N] at the samples (:func:`lubelink.link.reactions.joint_reactions`), for the variables of :data:`REACTIONS`.
 
@@ -153,7 +153,8 @@ def joint_reactions(result, t, y, losses, data):
     film); ``data`` holds ``film_force``, ``asperity_force`` and ``contact_force`` where they apply. The collar's loads:
     the film's pressure (its resultant and moment), the films' shear at the faces ``+-c`` from the axis (``c``, the
     outer fibre), the asperity and contact forces at the thinnest film's point (a sustained contact's at its point)
-    and the joint reaction of the collar's mass at ``x_star``.
+    and the joint reaction of the collar's mass at ``x_star``. ``thinnest``: :func:`~lubelink.link.model.thinnest_many`
+    at the samples when the caller has it (computed here where it is needed otherwise).
     """
     from .link.kinematics import motion_at
     from .link.model import rates_many, thinnest_many
@@ -191,8 +192,11 @@ def joint_reactions(result, t, y, losses, data):
         lever = np.zeros(t.size)
         held = (side != 0) & (cfg.contact.law == "restitution")
         free = np.flatnonzero((point_loads != 0.0) & ~held)
-        lever[free] = _select(thinnest_many, model.compiled)(np.ascontiguousarray(kin.x_star[free]),
-                                                              np.ascontiguousarray(y[free]), model.params)[:, 1]
+        if thinnest is None:
+            lever[free] = _select(thinnest_many, model.compiled)(np.ascontiguousarray(kin.x_star[free]),
+                                                                  np.ascontiguousarray(y[free]), model.params)[:, 1]
+        else:
+            lever[free] = thinnest[free, 1]
         for i in np.flatnonzero(held):
             lever[i] = model.contact_position(t[i], (phase[0][i], phase[1][i], phase[2][i]))
         normal = normal + point_loads

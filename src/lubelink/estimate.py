@@ -212,7 +212,7 @@ def _first_axial_mode(config) -> float:
     """The spatial link's first axial frequency [rad/s]: ``(pi / L) sqrt(E / rho)``, half that with a free end."""
     b, L = config.beam, config.mechanism.rod_length
     omega = math.pi / L * math.sqrt(b.youngs_modulus / b.density)
-    return 0.5 * omega if getattr(b, "axial_end", "fixed") == "free" else omega
+    return 0.5 * omega if b.axial_end == "free" else omega
 
 
 def results_cost(config) -> float:

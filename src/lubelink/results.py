@@ -266,9 +266,10 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         if "film_force" in want:
             force = _select(film.film_force_many, compiled)(q, q_dot, x_star, V_r, p.film, p.beam.width, p.pad, L)
             data["film_force"] = _entry("film_force", force)
-    film_min = None  # (the restitution law's penetration check needs it even when it is not stored)
+    film_min = thinnest = None  # (the restitution law's penetration check needs it even when it is not stored)
     if (fm.enabled or cfg.contact.law != "none") and ("film_min" in want or cfg.contact.law == "restitution"):
-        film_min = _select(thinnest_many, compiled)(x_star, y, p)[:, 0]
+        thinnest = _select(thinnest_many, compiled)(x_star, y, p)  # (xi, x_c): the film and where it is thinnest
+        film_min = thinnest[:, 0]
         if "film_min" in want:
             data["film_min"] = _entry("film_min", film_min)
     if fm.roughness > 0.0 and "asperity_force" in want:
@@ -306,7 +307,8 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         else:
             data[name] = _entry(name, value())
     if any(name in want for name in derived.REACTIONS) and not derived.reactions_apply(model):
-        for name, value in derived.joint_reactions(result, t, y, losses if fm.enabled else None, data).items():
+        for name, value in derived.joint_reactions(result, t, y, losses if fm.enabled else None, data,
+                                                      thinnest).items():
             if name in want:
                 data[name] = _entry(name, value)
     period = derived.crank_period(model)

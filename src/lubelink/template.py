@@ -1,7 +1,7 @@
 """The commented configuration file that ``lubelink config`` prints.
 
 Every key is written with its value, then a comment: its symbol, unit and meaning
-(:data:`lubelink.params.FIELDS`) and the values it accepts, which is the text of the very rule
+(:data:`lubelink.fields.FIELDS`) and the values it accepts, which is the text of the very rule
 that :func:`lubelink.config.validate` applies (:data:`lubelink.config.RULES`), so the comments
 cannot drift from the checks. The text loads back to the same configuration (every key is given,
 so the base scenario does not matter).
@@ -29,7 +29,8 @@ def comment(name: str) -> str:
     left out); counts (integers) show no unit.
     """
     from .config import RULES
-    from .params import FIELDS, SECTION_TYPES
+    from .fields import FIELDS
+    from .params import SECTION_TYPES
 
     section, key = name.split(".", 1)
     unit, symbol, meaning = FIELDS.get(name, ("", "", ""))

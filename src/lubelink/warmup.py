@@ -55,9 +55,9 @@ def compile_all(methods=("auto", "DOP853", "bulirsch-stoer", "exponential", "exp
     if progress:
         progress("compiling the spatial model (beam.model = 'spatial')")
     for method in ("exponential", "DOP853"):  # its parameters have a type of their own: the methods again
-        spatial = run(resolve("spatial-slider-crank", {"beam.modes": 2, "solver.method": method, "solver.t_end": 2e-3,
-                                                       "solver.output_step": 1e-3}))
-    to_dataset(spatial)
+        spatial_run = run(resolve("spatial-slider-crank", {"beam.modes": 2, "solver.method": method,
+                                                           "solver.t_end": 2e-3, "solver.output_step": 1e-3}))
+    to_dataset(spatial_run)
     if progress:
         progress("compiling the variational equations (lubelink periodic, lubelink continue)")
     import numpy as np

@@ -1,7 +1,7 @@
 """Display units: values stored in SI, drawn in the units people read (mm, µm, kPa, mPa s).
 
 :func:`display_unit` picks, for the SI unit of a variable (its ``units`` attribute, as
-:data:`lubelink.results.VARIABLES` and :data:`lubelink.params.FIELDS` write it), the unit of
+:data:`lubelink.results.VARIABLES` and :data:`lubelink.fields.FIELDS` write it), the unit of
 :data:`DISPLAY` in which the largest magnitude drawn reads between 1 and 1000, so that axes show
 ``2.7 mm`` rather than ``0.0027`` or ticks with a ``1e-3`` offset. :func:`log_scale` says whether
 values are drawn on a logarithmic axis (they span a decade or more) or a linear one.

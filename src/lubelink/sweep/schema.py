@@ -94,10 +94,11 @@ class SweepError(RuntimeError):
 def _parameters():
     """``{"section.key": (field type, units, long name)}`` of every parameter.
 
-    Units and long names come from :data:`lubelink.params.FIELDS`, the table ``lubelink config``
+    Units and long names come from :data:`lubelink.fields.FIELDS`, the table ``lubelink config``
     comments its keys from.
     """
-    from ..params import FIELDS, SECTION_TYPES
+    from ..fields import FIELDS
+    from ..params import SECTION_TYPES
 
     out = {}
     for section, cls in SECTION_TYPES.items():
