@@ -35,7 +35,7 @@ class Grazing(ArithmeticError):
     """An event too close to a graze for a saltation matrix (its rate along the flow is about zero)."""
 
 
-def saltation_matrix(reset_jacobian, reset_rate, gradient, rate, f_minus, f_plus, rate_scale, grazing=GRAZING,
+def saltation_matrix(reset_jacobian, reset_rate, gradient, rate, f_minus, f_plus, rate_scale, grazing=None,
                      where="the event"):
     """The saltation matrix ``S`` of one event (module docstring), shape ``(n, n)``.
 
@@ -53,8 +53,8 @@ def saltation_matrix(reset_jacobian, reset_rate, gradient, rate, f_minus, f_plus
         The vector fields at ``(t_e, y_-)`` and ``(t_e, y_+)``.
     rate_scale : ndarray, shape ``(n,)``
         A typical size of each component of ``dy/dt`` on the orbit (for the graze test).
-    grazing : float
-        The graze threshold (:data:`GRAZING`).
+    grazing : float, optional
+        The graze threshold (default :data:`GRAZING`).
     where : str
         Names the event in the :class:`Grazing` message.
 
@@ -63,6 +63,7 @@ def saltation_matrix(reset_jacobian, reset_rate, gradient, rate, f_minus, f_plus
     Grazing
         If ``|g_t| <= grazing * sum_i |grad_i g| rate_scale_i`` (or either is not finite).
     """
+    grazing = GRAZING if grazing is None else grazing
     DR = np.asarray(reset_jacobian, dtype=float)
     gradient = np.asarray(gradient, dtype=float)
     reference = float(np.sum(np.abs(gradient) * np.asarray(rate_scale, dtype=float)))
