@@ -136,8 +136,8 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
         ``8, 16, ...`` more periods of transient (which approach a stable response, and leave
         behind the impacts of the start-up that make the map non-smooth).
     jacobian : str
-        ``"auto"`` (variational equations in a smooth period, finite differences when a contact
-        event occurs in it), ``"variational"`` or ``"finite-difference"``.
+        ``"auto"`` (variational equations, with a saltation matrix at each impact; finite differences
+        at a graze or a compliant or sustained contact), ``"variational"`` or ``"finite-difference"``.
     tol : float
         Scaled residual ``max |y(T) - y0| / scale`` at which Newton's method stops; ``scale``
         is the peak ``|q|`` and ``|q_dot|`` of the orbit through the initial guess.

@@ -5,10 +5,12 @@ state ``y0`` (at t = 0) is the state one period later, computed by :func:`lubeli
 from ``y0``, so that film breakdown and impacts are handled by the same
 :class:`~lubelink.contact.ContactLogic` as in any run: a period with impacts is the composition of
 the smooth flows and the impact maps. Its Jacobian (the monodromy matrix) comes from the
-variational equations integrated with the state (:mod:`.variational`, compiled) when the period is
-smooth (no contact event in it), or from central differences of the map (:meth:`PeriodMap.differences`)
-when an event occurs, since the variational equations would then need the saltation matrix of every
-impact. Asked for ``"checked"``, the map adds a second, less accurate matrix for the multipliers'
+variational equations integrated with the state (:mod:`.variational`, compiled): over the whole
+period when it is smooth, else stretch by stretch between the run's impacts, composed with the
+saltation matrix of each impact (:mod:`.saltation`, the pieces from :mod:`lubelink.jumps`). Where
+an event has no saltation matrix here (a compliant or a sustained contact) or is a graze, ``"auto"``
+takes central differences of the map (:meth:`PeriodMap.differences`) and ``info["jacobian_note"]``
+says why. Asked for ``"checked"``, the map adds a second, less accurate matrix for the multipliers'
 accuracy estimates: the variational equations at :data:`CHECK_FACTOR` times the tolerances, or
 differences of twice the step.
 
@@ -37,7 +39,7 @@ import numpy as np
 from .saltation import Grazing, compose, saltation_matrix
 from .shooting import MapFailure, MapValue
 
-__all__ = ["PeriodMap", "Family", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATOL", "DIFFERENCE_RTOL",
+__all__ = ["PeriodMap", "Family", "Unsupported", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATOL", "DIFFERENCE_RTOL",
            "DIFFERENCE_ATOL", "CHECK_FACTOR", "JACOBIANS"]
 
 #: Loosest tolerances of the map's integration (a configuration's tighter ones are kept).
@@ -58,8 +60,9 @@ CHECK_FACTOR = 100.0
 #: Tolerance of the variational equations for the Jacobians of Newton's steps (not of the
 #: multipliers): Newton's method needs the direction, not the last digits.
 NEWTON_RTOL = 1e-7
-#: How the monodromy matrix is obtained: ``"auto"`` (variational equations when no contact event
-#: occurs in the period, else finite differences), ``"variational"``, ``"finite-difference"``.
+#: How the monodromy matrix is obtained: ``"auto"`` (variational equations, through impacts by saltation
+#: matrices; finite differences where an event has none, :class:`Unsupported`, or grazes),
+#: ``"variational"`` (an error in those cases), ``"finite-difference"``.
 JACOBIANS = ("auto", "variational", "finite-difference")
 
 
@@ -142,9 +145,11 @@ class PeriodMap:
     def __call__(self, y0, jacobian=False) -> MapValue:
         """The state one period after ``y0``, with the monodromy matrix if asked for (``"checked"``: and its check).
 
-        The variational equations in a smooth period (``"auto"``), else central
-        differences of the map at :data:`DIFFERENCE_RTOL` (:meth:`differences`);
-        ``info["jacobian"]`` says which.
+        The variational equations (``"auto"``; through impacts with their saltation matrices,
+        :meth:`jumps`), else central differences of the map at :data:`DIFFERENCE_RTOL`
+        (:meth:`differences`); ``info["jacobian"]`` says which (``"variational"``,
+        ``"variational+saltation"``, ``"finite-difference"``), ``info["jacobian_note"]`` why ``"auto"``
+        took differences in a period with events.
         """
         y0 = np.asarray(y0, dtype=float)
         key = y0.tobytes()
