@@ -14,6 +14,7 @@ module               job
 ===================  ===========================================================================
 ``shooting``         damped Newton on ``P(y) = y`` for any map; finite-difference Jacobians
 ``variational``      the flow's Jacobian from the variational equations (any right-hand side)
+``saltation``        the Jacobian's jump at an event (saltation matrix) and the monodromy through events
 ``floquet``          multipliers, stability, how a multiplier crosses the unit circle
 ``arclength``        pseudo-arclength continuation of the fixed points of ``P(y, lam)``
 ``problem``          lubelink's period map: :func:`lubelink.simulate.run` from a state, over one
@@ -24,7 +25,7 @@ module               job
 ``cli``              ``lubelink periodic``, ``lubelink continue``, ``lubelink plot-branch``
 ===================  ===========================================================================
 
-``shooting``, ``variational``, ``floquet`` and ``arclength`` know nothing of the model: they
+``shooting``, ``variational``, ``saltation``, ``floquet`` and ``arclength`` know nothing of the model: they
 see a map ``fmap(y, jacobian) -> MapValue`` (and, for continuation, ``family(lam) -> fmap``).
 """
 

@@ -22,8 +22,9 @@ def register_cli(subparsers, add_config_args):
     p = subparsers.add_parser(
         "periodic", help="find the periodic steady state by shooting, with its Floquet multipliers",
         description="Find the response with the period of the crank (2 pi/|omega0|) by shooting: Newton's "
-                    "method on y(T; y0) = y0, the monodromy matrix from the variational equations (finite "
-                    "differences when an impact occurs in the period). Writes one period of the usual "
+                    "method on y(T; y0) = y0, the monodromy matrix from the variational equations (with a "
+                    "saltation matrix at each impact; finite differences at a graze or a compliant or sustained "
+                    "contact). Writes one period of the usual "
                     "results plus floquet_modulus and floquet_argument. See docs/periodic.md.")
     add_config_args(p)
     p.add_argument("-o", "--output", metavar="FILE.nc",
@@ -78,8 +79,9 @@ def register_cli(subparsers, add_config_args):
 
 def _common(p, default):
     p.add_argument("--jacobian", choices=JACOBIANS, default=default,
-                   help="monodromy matrix: 'auto' (variational equations when no impact occurs in the period, "
-                        f"finite differences otherwise), or always one of them (default {default})")
+                   help="monodromy matrix: 'auto' (variational equations, with a saltation matrix at each "
+                        "impact; finite differences at a graze or a compliant or sustained contact), or always "
+                        f"one of them (default {default})")
     p.add_argument("--tol", type=float, default=1e-9, help="scaled residual of Newton's method (default 1e-9)")
     p.add_argument("-q", "--quiet", action="store_true", help="no summary")
 
@@ -194,7 +196,8 @@ def _cmd_periodic(args):
                 ("period", f"{orbit.period:.6g} s" + (f" ({args.periods} crank turns)" if args.periods > 1 else "")),
                 ("newton", f"{orbit.iterations} step(s) after {orbit.warmup} period(s) of transient; residual "
                            f"{a['residual']:.2g} (scaled), |q(T) - q(0)| = {a['residual_q']:.2g} m"),
-                ("monodromy", f"{orbit.jacobian}, {orbit.evaluations} period(s) integrated"),
+                ("monodromy", f"{orbit.jacobian}, {orbit.evaluations} period(s) integrated"
+                              + (f" ({orbit.jacobian_note})" if orbit.jacobian_note else "")),
                 ("floquet", f"|multipliers| {_multipliers(orbit.multipliers)}: {stable}"),
                 ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(r['time'][i]):.4f} s")]
         if "u3_mid" in r:  # the spatial model: the out-of-plane and axial midpoint too

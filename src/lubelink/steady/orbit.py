@@ -67,7 +67,8 @@ class PeriodicOrbit:
     multiplier_errors : ndarray
         Accuracy estimate of each multiplier [-] (:func:`.floquet.multiplier_errors`).
     jacobian : str
-        How the monodromy matrix was obtained: ``"variational"`` or ``"finite-difference"``.
+        How the monodromy matrix was obtained: ``"variational"``, ``"variational+saltation"`` (through
+        impacts, :mod:`.saltation`) or ``"finite-difference"``.
     residual : float
         ``max |y(T) - y0| / scale`` of the last Newton iterate [-].
     iterations : int
@@ -84,6 +85,8 @@ class PeriodicOrbit:
         Wall-clock time of the search [s].
     warmup : int
         Periods of transient integrated before the successful attempt.
+    jacobian_note : str
+        Why ``"auto"`` took differences in a period with events (a graze, a compliant contact), else ``""``.
     """
 
     config: object
@@ -101,6 +104,7 @@ class PeriodicOrbit:
     evaluations: int
     wall_time: float
     warmup: int = 0
+    jacobian_note: str = ""
 
     @property
     def stable(self) -> bool:
@@ -132,8 +136,8 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
         ``8, 16, ...`` more periods of transient (which approach a stable response, and leave
         behind the impacts of the start-up that make the map non-smooth).
     jacobian : str
-        ``"auto"`` (variational equations in a smooth period, finite differences when a contact
-        event occurs in it), ``"variational"`` or ``"finite-difference"``.
+        ``"auto"`` (variational equations, with a saltation matrix at each impact; finite differences
+        at a graze or a compliant or sustained contact), ``"variational"`` or ``"finite-difference"``.
     tol : float
         Scaled residual ``max |y(T) - y0| / scale`` at which Newton's method stops; ``scale``
         is the peak ``|q|`` and ``|q_dot|`` of the orbit through the initial guess.
@@ -171,7 +175,8 @@ def find_periodic(config, motion=None, *, period=None, periods=1, y0=None, warmu
     mu = floquet.multipliers(r.jacobian)
     err = floquet.multiplier_errors(mu, r.jacobian_check)
     return PeriodicOrbit(pmap.config, pmap.period, r.y, r.jacobian, mu, err, r.jacobian_method, r.residual,
-                         r.iterations, r.history, scale, pmap, r.evaluations, time.perf_counter() - began, done)
+                         r.iterations, r.history, scale, pmap, r.evaluations, time.perf_counter() - began, done,
+                         r.value.info.get("jacobian_note", ""))
 
 
 def orbit_run(orbit: PeriodicOrbit, output_step=None):
@@ -195,7 +200,7 @@ def orbit_results(orbit: PeriodicOrbit, output_step=None):
     For the spatial model also the variables of :data:`SPATIAL_VARIABLES` (``q1``, ``q3``,
     ``q1_dot``, ``q3_dot``, ``floquet_direction``) beside its usual ``u1``, ``u3``, ``u3_mid``.
     Attributes added: ``period`` [s], ``residual`` (scaled, of the sampled period), ``residual_q``
-    [m] (every displacement coordinate), ``residual_q_dot`` [m/s], ``iterations``, ``stable`` (1/0), ``jacobian``,
+    [m] (every displacement coordinate), ``residual_q_dot`` [m/s], ``iterations``, ``stable`` (1/0), ``jacobian``, ``jacobian_note``,
     ``floquet_max_modulus``, ``newton_residuals``, ``map_evaluations``.
     """
     from ..results import Results, collect
@@ -228,6 +233,7 @@ def orbit_results(orbit: PeriodicOrbit, output_step=None):
         "iterations": orbit.iterations,
         "stable": int(orbit.stable),
         "jacobian": orbit.jacobian,
+        "jacobian_note": orbit.jacobian_note,
         "floquet_max_modulus": floquet.max_modulus(mu),
         "floquet_undecided": floquet.undecided(mu, orbit.multiplier_errors),
         "newton_residuals": ", ".join(f"{h:.3g}" for h in orbit.history),

@@ -5,10 +5,12 @@ state ``y0`` (at t = 0) is the state one period later, computed by :func:`lubeli
 from ``y0``, so that film breakdown and impacts are handled by the same
 :class:`~lubelink.contact.ContactLogic` as in any run: a period with impacts is the composition of
 the smooth flows and the impact maps. Its Jacobian (the monodromy matrix) comes from the
-variational equations integrated with the state (:mod:`.variational`, compiled) when the period is
-smooth (no contact event in it), or from central differences of the map (:meth:`PeriodMap.differences`)
-when an event occurs, since the variational equations would then need the saltation matrix of every
-impact. Asked for ``"checked"``, the map adds a second, less accurate matrix for the multipliers'
+variational equations integrated with the state (:mod:`.variational`, compiled): over the whole
+period when it is smooth, else stretch by stretch between the run's impacts, composed with the
+saltation matrix of each impact (:mod:`.saltation`, the pieces from :mod:`lubelink.jumps`). Where
+an event has no saltation matrix here (a compliant or a sustained contact) or is a graze, ``"auto"``
+takes central differences of the map (:meth:`PeriodMap.differences`) and ``info["jacobian_note"]``
+says why. Asked for ``"checked"``, the map adds a second, less accurate matrix for the multipliers'
 accuracy estimates: the variational equations at :data:`CHECK_FACTOR` times the tolerances, or
 differences of twice the step.
 
@@ -34,9 +36,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from .saltation import Grazing, compose, saltation_matrix
 from .shooting import MapFailure, MapValue
 
-__all__ = ["PeriodMap", "Family", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATOL", "DIFFERENCE_RTOL",
+__all__ = ["PeriodMap", "Family", "Unsupported", "crank_period", "SHOOTING_RTOL", "SHOOTING_ATOL", "DIFFERENCE_RTOL",
            "DIFFERENCE_ATOL", "CHECK_FACTOR", "JACOBIANS"]
 
 #: Loosest tolerances of the map's integration (a configuration's tighter ones are kept).
@@ -57,14 +60,19 @@ CHECK_FACTOR = 100.0
 #: Tolerance of the variational equations for the Jacobians of Newton's steps (not of the
 #: multipliers): Newton's method needs the direction, not the last digits.
 NEWTON_RTOL = 1e-7
-#: How the monodromy matrix is obtained: ``"auto"`` (variational equations when no contact event
-#: occurs in the period, else finite differences), ``"variational"``, ``"finite-difference"``.
+#: How the monodromy matrix is obtained: ``"auto"`` (variational equations, through impacts by saltation
+#: matrices; finite differences where an event has none, :class:`Unsupported`, or grazes),
+#: ``"variational"`` (an error in those cases), ``"finite-difference"``.
 JACOBIANS = ("auto", "variational", "finite-difference")
 
 
 def crank_period(config) -> float:
     """Period of the slider-crank's motion, ``2 pi / |omega0|`` [s]."""
     return 2.0 * math.pi / abs(config.mechanism.crank_speed)
+
+
+class Unsupported(ValueError):
+    """Events in the period that have no saltation matrix here (:func:`lubelink.jumps.unsupported`)."""
 
 
 class PeriodMap:
@@ -137,9 +145,11 @@ class PeriodMap:
     def __call__(self, y0, jacobian=False) -> MapValue:
         """The state one period after ``y0``, with the monodromy matrix if asked for (``"checked"``: and its check).
 
-        The variational equations in a smooth period (``"auto"``), else central
-        differences of the map at :data:`DIFFERENCE_RTOL` (:meth:`differences`);
-        ``info["jacobian"]`` says which.
+        The variational equations (``"auto"``; through impacts with their saltation matrices,
+        :meth:`jumps`), else central differences of the map at :data:`DIFFERENCE_RTOL`
+        (:meth:`differences`); ``info["jacobian"]`` says which (``"variational"``,
+        ``"variational+saltation"``, ``"finite-difference"``), ``info["jacobian_note"]`` why ``"auto"``
+        took differences in a period with events.
         """
         y0 = np.asarray(y0, dtype=float)
         key = y0.tobytes()
@@ -152,40 +162,82 @@ class PeriodMap:
             if self._scale is None:
                 self._scale = self._scale_of(r.y)
             checked = jacobian == "checked"
-            if self.jacobian == "variational" or (self.jacobian == "auto" and events == 0):
-                if events:
-                    raise MapFailure(f"jacobian = 'variational': {events} contact event(s) in the period; the "
-                                     "variational equations do not cross impacts, use 'auto' or 'finite-difference'")
+            note = ""
+            if self.jacobian in ("auto", "variational"):
                 rtol = self.config.solver.rtol
-                J = self.variational(y0, rtol if checked else max(rtol, NEWTON_RTOL))
-                if checked:  # the check's difference scaled to the error at rtol (see CHECK_FACTOR)
-                    check = J + (self.variational(y0, CHECK_FACTOR * rtol) - J) / math.sqrt(CHECK_FACTOR)
-                info["jacobian"] = "variational"
-            else:
+                try:
+                    jumps = self.jumps(r) if events else []
+                    J = self.variational(y0, rtol if checked else max(rtol, NEWTON_RTOL), r, jumps)
+                    if checked:  # the check's difference scaled to the error at rtol (see CHECK_FACTOR)
+                        check = J + (self.variational(y0, CHECK_FACTOR * rtol, r, jumps) - J) / math.sqrt(CHECK_FACTOR)
+                except (Unsupported, Grazing) as exc:
+                    if self.jacobian == "variational":
+                        raise MapFailure(f"jacobian = 'variational': {exc}; use 'auto' or 'finite-difference'") from None
+                    note = f"finite differences: {exc}"
+                    J = check = None
+                else:
+                    info["jacobian"] = "variational+saltation" if events else "variational"
+            if J is None:
                 J, count, check = self.differences(y0, checked)
                 info["jacobian"], info["evaluations"] = "finite-difference", count
+            info["jacobian_note"] = note
         return MapValue(np.array(r.y[-1], dtype=float), J, info, check)
 
-    def variational(self, y0, rtol=None):
-        """The monodromy matrix ``dy(T)/dy0`` from the variational equations (a smooth period), compiled
-        (:func:`~.variational.flow_with_jacobian`), at the map's tolerances or ``rtol``."""
+    def variational(self, y0, rtol=None, run=None, jumps=()):
+        """The monodromy matrix ``dy(T)/dy0`` from the variational equations, compiled
+        (:func:`~.variational.flow_with_jacobian`), at the map's tolerances or ``rtol``.
+
+        With the saltation matrices ``jumps`` of the events of ``run`` (the period from ``y0``,
+        :meth:`jumps`), the stretches between events are integrated one by one from the run's states
+        after each event and composed with them (:func:`.saltation.compose`).
+        """
         from .variational import flow_with_jacobian
 
         s = self.config.solver
         rtol = s.rtol if rtol is None else rtol
         model = self.model
-        try:
-            _, M, _ = flow_with_jacobian(model.functions()[0], model.with_phase(None), 0.0, model.to_state(y0),
-                                         self.period, self.scale(), rtol=rtol, atol=s.atol * rtol / s.rtol,
-                                         jacobian=not model.jacobian_missing(None),
-                                         p_type=model.params_type if model.compiled else None,
-                                         compiled=model.compiled)
-        except RuntimeError as exc:
-            raise MapFailure(str(exc)) from None
-        if not model.uniform:  # the integrator's eigen-coordinates -> the sine modes of the map
-            eye = np.eye(self.n)
-            M = model.to_physical(eye).T @ M @ model.to_state(eye).T
-        return M
+        eye = np.eye(self.n)
+        to_state, to_physical = model.to_state(eye).T, model.to_physical(eye).T
+        starts = [(0.0, np.asarray(y0, dtype=float))]
+        if len(jumps):
+            starts += [(float(impact.t), np.asarray(impact.y_after, dtype=float)) for impact in run.impacts]
+        ends = [t for t, _ in starts[1:]] + [self.period]
+        flows = []
+        for (t0, y_start), t1 in zip(starts, ends):
+            if t1 <= t0:  # an event at the start of the period, or two at one instant
+                flows.append(eye)
+                continue
+            try:
+                _, M, _ = flow_with_jacobian(model.functions()[0], model.with_phase(None), t0,
+                                             model.to_state(y_start), t1, self.scale(), rtol=rtol,
+                                             atol=s.atol * rtol / s.rtol, jacobian=not model.jacobian_missing(None),
+                                             p_type=model.params_type if model.compiled else None,
+                                             compiled=model.compiled)
+            except RuntimeError as exc:
+                raise MapFailure(str(exc)) from None
+            flows.append(M if model.uniform else to_physical @ M @ to_state)  # eigen-coordinates -> sine modes
+        return compose(flows, list(jumps))
+
+    def jumps(self, run):
+        """The saltation matrices of the events of ``run`` (sine-mode states), for :meth:`variational`.
+
+        Raises :class:`Unsupported` for events without one (:func:`lubelink.jumps.unsupported`) and
+        :class:`~.saltation.Grazing` at a graze.
+        """
+        from ..jumps import restitution_terms, unsupported
+
+        why = unsupported(self.model, run)
+        if why:
+            raise Unsupported(why)
+        scale = self.scale()
+        N = self.n // 2
+        rate_scale = np.concatenate([scale[N:], scale[N:] * float(np.max(self.model.state_frequencies))])
+        out = []
+        for k, impact in enumerate(run.impacts):
+            terms = restitution_terms(self.model, impact.t, impact.y_before, impact.y_after, scale,
+                                      self.period / (2.0 * math.pi))
+            out.append(saltation_matrix(*terms, rate_scale, where=f"the impact at t = {impact.t:.9g} s"))
+        return out
 
     def differences(self, y0, check=False):
         """``(M, evaluations, M_check)``: the monodromy matrix by central differences of the map.

@@ -1,0 +1,194 @@
+"""What a saltation matrix needs at a restitution impact, from the model (docs/periodic.md, "Through impacts").
+
+At an impact (docs/model.md section 5) the event function is the gap ``g = xi_min - min_film``,
+``xi_min = H/2 - side u2(x_c)`` at the thinnest point ``x_c`` of the film, and the reset is the
+restitution law :func:`lubelink.contact.restitution_jump`,
+``q_dot+ = q_dot - side (1 + e) v w`` with ``w = s / (s . s)``, ``s_n = sin(beta_n x_c)`` and the
+approach velocity ``v = side (s . q_dot + V_c u2'(x_c))`` (``V_c = V_r`` at a pad edge, else 0);
+the displacements do not jump. :func:`restitution_terms` gives the pieces of
+:func:`lubelink.steady.saltation.saltation_matrix`: ``DR``, ``dR/dt``, ``grad g``, the rate of
+``g`` (the event function's own, ``-v``) and the vector fields on both sides.
+
+For the uniform planar link they are written out (:func:`restitution_jacobian`, ``grad_q g =
+-side s`` by the envelope theorem, at an interior minimum and at a pad edge alike); for the
+spatial link and a variable section they are central differences of the model's own impact and
+gap (:func:`restitution_terms_by_differences`), which the test of the closed forms also uses as
+their reference. :func:`unsupported` says which periods have events that a saltation matrix does
+not describe (a compliant contact, whose force depends on its start; a sustained contact).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .beam import wavenumbers
+from .link.kinematics import collar_acceleration
+
+__all__ = ["EventTerms", "restitution_jacobian", "restitution_terms", "restitution_terms_by_differences",
+           "unsupported", "REL_STEP"]
+
+#: Relative step of the central differences (of the state's scale; of the time scale ``T / 2 pi``).
+REL_STEP = 1e-6
+
+
+class EventTerms(NamedTuple):
+    """The pieces of a saltation matrix at an event, in the sine-mode state ``[q, q_dot]`` [SI].
+
+    ``reset_jacobian`` ``dR/dy`` ``(n, n)``, ``reset_rate`` ``dR/dt`` ``(n,)``, ``gradient``
+    ``grad_y g`` ``(n,)`` [m per unit of y], ``rate`` ``dg/dt`` along the flow before the event
+    [m/s], ``f_minus``, ``f_plus`` the vector fields before and after ``(n,)``.
+    """
+
+    reset_jacobian: np.ndarray
+    reset_rate: np.ndarray
+    gradient: np.ndarray
+    rate: float
+    f_minus: np.ndarray
+    f_plus: np.ndarray
+
+
+def restitution_jacobian(q, q_dot, x_c, at_edge, side, V_r, A_r, restitution, rod_length):
+    """``(dqd_dq, dqd_dqd, dqd_dt)``: derivatives of the velocities after an impact of the uniform planar link.
+
+    ``q_dot+ = q_dot - side (1 + e) v w`` (module docstring) at the thinnest point ``x_c`` [m].
+    Inside the pad ``x_c`` is the film's extremum, ``u2'(x_c) = 0``, so it moves with ``q``
+    (``dx_c/dq_n = -beta_n cos(beta_n x_c) / u2''``) and not with time; at a pad edge it moves with
+    the collar (``dx_c/dt = V_r``) and not with ``q``, and ``v`` holds the slope term ``V_r u2'``.
+
+    Parameters
+    ----------
+    q, q_dot : ndarray, shape ``(N,)``
+        Modal coordinates [m] and velocities [m/s] before the impact.
+    x_c : float
+        Contact point [m].
+    at_edge : bool
+        Whether ``x_c`` is a pad edge.
+    side : float
+        Film side (+1, -1).
+    V_r, A_r : float
+        Collar velocity [m/s] and acceleration [m/s^2] relative to the link.
+    restitution : float
+        ``e`` [-].
+    rod_length : float
+        [m].
+
+    Returns
+    -------
+    dqd_dq : ndarray, shape ``(N, N)``
+        ``d q_dot+ / d q`` [1/s].
+    dqd_dqd : ndarray, shape ``(N, N)``
+        ``d q_dot+ / d q_dot`` [-].
+    dqd_dt : ndarray, shape ``(N,)``
+        ``d q_dot+ / dt`` at fixed ``y`` [m/s^2].
+    """
+    beta = wavenumbers(q.shape[0], rod_length)
+    s, bc = np.sin(beta * x_c), beta * np.cos(beta * x_c)
+    S2 = float(s @ s)
+    w = s / S2
+    w_x = bc / S2 - 2.0 * s * float(s @ bc) / S2**2  # dw/dx_c
+    d1, d2 = float(bc @ q), float(-(beta * beta * s) @ q)  # u2', u2'' at x_c
+    ut1 = float(bc @ q_dot)  # u2_t'
+    k = side * (1.0 + restitution)
+    V_c = V_r if at_edge else 0.0
+    v = side * (float(s @ q_dot) + V_c * d1)
+    dqd_dqd = np.eye(q.shape[0]) - (1.0 + restitution) * np.outer(w, s)
+    if at_edge:
+        dv_dq = side * V_r * bc
+        dqd_dq = -k * np.outer(w, dv_dq)
+        dv_dt = side * (ut1 * V_r + d2 * V_r * V_r + d1 * A_r)
+        dqd_dt = -k * (w * dv_dt + v * w_x * V_r)
+    else:
+        dx_dq = -bc / d2
+        dqd_dq = -k * (np.outer(w, side * ut1 * dx_dq) + v * np.outer(w_x, dx_dq))
+        dqd_dt = np.zeros(q.shape[0])
+    return dqd_dq, dqd_dqd, dqd_dt
+
+
+def _fields(model, t, y_minus, y_plus):
+    """The vector fields ``(f_-, f_+)`` at the states around a free-flight impact (sine-mode states)."""
+    def f(y):
+        return model.to_physical(model.rhs(t, model.to_state(np.asarray(y, dtype=float))))
+
+    return f(y_minus), f(y_plus)
+
+
+def _rate(model, t, y):
+    """The event function's rate along the flow at ``(t, y)`` [m/s] (sine-mode state)."""
+    event = model.functions()[1]
+    return float(event(float(t), np.ascontiguousarray(model.to_state(np.asarray(y, dtype=float))), model.params)[1])
+
+
+def restitution_terms(model, t, y_minus, y_plus, scale, time_scale):
+    """The :class:`EventTerms` of the restitution impact at ``(t, y_minus)`` [s, sine-mode state] giving ``y_plus``.
+
+    Written out for the uniform planar link (:func:`restitution_jacobian`); else
+    :func:`restitution_terms_by_differences` with steps :data:`REL_STEP` of ``scale`` (the state's
+    sizes) and of ``time_scale`` [s].
+    """
+    if not (model.uniform and model.config.beam.model == "planar"):
+        return restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale)
+    y_minus = np.asarray(y_minus, dtype=float)
+    N = model.modes
+    _, x_c, edge, side = model.thinnest_film(t, y_minus)
+    A_r = 0.0
+    if edge:
+        A_r = (collar_acceleration(t, model.params.motion) if model.motion.table() is not None
+               else model.motion.collar_acceleration(t))
+    dq, dv, dt = restitution_jacobian(y_minus[:N], y_minus[N:], x_c, edge, side, model.kinematics(t).V_r, A_r,
+                                      model.config.contact.restitution, model.config.mechanism.rod_length)
+    DR = np.eye(2 * N)
+    DR[N:, :N], DR[N:, N:] = dq, dv
+    gradient = np.zeros(2 * N)
+    gradient[:N] = -side * np.sin(wavenumbers(N, model.config.mechanism.rod_length) * x_c)
+    f_minus, f_plus = _fields(model, t, y_minus, y_plus)
+    return EventTerms(DR, np.concatenate([np.zeros(N), dt]), gradient, _rate(model, t, y_minus), f_minus, f_plus)
+
+
+def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale):
+    """:class:`EventTerms` with ``DR``, ``dR/dt`` and ``grad g`` by central differences of the model's
+    :meth:`~lubelink.assembly.Model.impact` and gap (any model: planar or spatial, any section)."""
+    y_minus = np.asarray(y_minus, dtype=float)
+    n = y_minus.size
+    steps = REL_STEP * np.asarray(scale, dtype=float)
+    tau = REL_STEP * time_scale
+
+    def reset(t_, y):
+        return model.impact(t_, y)[0]
+
+    def gap(y):
+        return model.gap(t, model.to_state(y))
+
+    DR = np.empty((n, n))
+    gradient = np.empty(n)
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = steps[j]
+        DR[:, j] = (reset(t, y_minus + e) - reset(t, y_minus - e)) / (2.0 * steps[j])
+        gradient[j] = (gap(y_minus + e) - gap(y_minus - e)) / (2.0 * steps[j])
+    reset_rate = (reset(t + tau, y_minus) - reset(t - tau, y_minus)) / (2.0 * tau)
+    f_minus, f_plus = _fields(model, t, y_minus, y_plus)
+    return EventTerms(DR, reset_rate, gradient, _rate(model, t, y_minus), f_minus, f_plus)
+
+
+def unsupported(model, run) -> str:
+    """Why the events of ``run`` (a :class:`~lubelink.results.Run`) have no saltation matrices here; ``""`` if they do.
+
+    Supported: restitution impacts in free flight (each with a jump). Not: the compliant
+    contact (its force depends on the approach velocity at its start, a parameter of the contact
+    phase that the state does not carry), a sustained contact (its constraint holds a point chosen
+    at its start, and its end is an event of its force).
+    """
+    law = model.config.contact.law
+    if law == "compliant":
+        return ("a compliant contact in the period: its force depends on the approach velocity at its start, "
+                "which a saltation matrix does not carry")
+    if law != "restitution":
+        return f"contact.law = {law!r} has no impacts"
+    if run.contacts:
+        return "a sustained contact in the period (the restitution law's Zeno limit)"
+    for impact in run.impacts:
+        if not impact.v_minus > 0.0:
+            return f"an event without a jump at t = {impact.t:.9g} s (approach velocity {impact.v_minus:.3g} m/s)"
+    return ""
