@@ -51,8 +51,9 @@ def _main():
         try:
             import json
 
-            ready = json.loads(text).get("ready")
-            if ready:
+            spec = json.loads(text)
+            ready = spec.get("ready")
+            if ready and os.getppid() == spec.get("parent"):  # (a parent gone no longer waits: no file left behind)
                 open(ready, "a").close()
         except Exception:  # noqa: BLE001 - the parent stops waiting after a while
             pass

@@ -224,7 +224,7 @@ def _cmd_sweep(args):
     except KeyboardInterrupt as exc:
         stored = "?"
         with contextlib.suppress(Exception):
-            stored = int(load_sweep(out).done.sum())
+            stored = int(outcome(out)[0].sum())  # (Zarr alone: xarray would take a second or two to import)
         if not (out.exists() or _side_store(out).exists()):
             print(f"lubelink: {interrupted(exc)}; no point was stored", file=sys.stderr)
         else:

@@ -285,7 +285,7 @@ def start_server(sp, flat, opts):
 
     ready = os.path.join(tempfile.gettempdir(), f"lubelink-warm-{os.getpid()}-{time.monotonic_ns()}")
     point = {"config": to_toml(config_with(sp.base_config, sp.overrides(flat))), "quantities": list(opts.quantities),
-             "max_impacts": opts.max_impacts, "ready": ready}
+             "max_impacts": opts.max_impacts, "ready": ready, "parent": os.getpid()}
     held = _hold_sigint()
     before = os.environ.get(ENV)
     os.environ[ENV] = json.dumps(point)  # the server's environment (read once, by its preload)
@@ -297,7 +297,24 @@ def start_server(sp, flat, opts):
         else:
             os.environ[ENV] = before
         held()
+    if not _OUTSTANDING:
+        import atexit
+
+        atexit.register(_remove_outstanding)
+    _OUTSTANDING.add(ready)
     return ready
+
+
+#: Ready files of servers started by :func:`start_server` that no :func:`_await_server` consumed (a sweep
+#: stopped before its pool started): removed at exit.
+_OUTSTANDING = set()
+
+
+def _remove_outstanding():
+    for ready in list(_OUTSTANDING):
+        with contextlib.suppress(OSError):
+            os.unlink(ready)
+    _OUTSTANDING.clear()
 
 
 #: Longest wait [s] for the server's warm-up (a cold cache compiles there) before the workers start anyway.
@@ -313,6 +330,7 @@ def _await_server(ready):
         while not os.path.exists(ready) and time.monotonic() < deadline:
             time.sleep(0.01)
     finally:
+        _OUTSTANDING.discard(ready)
         with contextlib.suppress(OSError):
             os.unlink(ready)
 
