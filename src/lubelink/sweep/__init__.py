@@ -20,11 +20,13 @@ module                      job
 ``compute``                 one point on a worker: simulate, summarise
                             (:func:`summarise`, or :func:`reduce_run` from the
                             run's arrays), sample time series
-``layout``                  the empty Dataset a new store is created from
+``layout``                  the variables of a new store, written with Zarr
+                            (:func:`~.layout.write_empty`) or as a Dataset
 ``store``                   Zarr writer and journal, NetCDF export,
                             :func:`load_sweep`, :func:`point_config`
-``local``                   this process or a process pool; the commit of
-                            finished points (``Tally``) and task sizes
+``local``                   this process or a process pool; the free cores,
+                            the commit of finished points (``Tally``), task sizes
+``_warm``                   the pool server's warm-up on the first point
 ``on_dask``                 the Dask client or LocalCluster, the task window
 ``execute``                 :func:`run_sweep`: the store, where the points run
 ``plot``                    :func:`plot_sweep`: response map

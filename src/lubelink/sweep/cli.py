@@ -16,12 +16,12 @@ from pathlib import Path
 from .._files import atomic_path, target_problem
 from ..config import ConfigError, _name
 from ..errors import UsageError, exit_status, interrupted
-from .execute import EXECUTORS, _bar, _cpu_count, check_size, output_problem, run_sweep
+from .execute import EXECUTORS, _bar, _cpu_count, _run_sweep, check_size, output_problem
 from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .plot import plot_sweep
 from .schema import SweepError, _fmt, _parameters
 from .spec import Sweep
-from .store import _is_netcdf, _side_store, load_sweep
+from .store import _is_netcdf, _side_store, load_sweep, outcome
 
 __all__ = ["register_cli"]
 
@@ -122,14 +122,16 @@ def _table(rows):
     return "\n".join(f"{k:<{width}}  {v}" for k, v in rows)
 
 
-def _summary(ds, sp: Sweep, path):
-    status = ds.status.values.reshape(-1)[ds.done.values.reshape(-1)]
+def _summary(stored, sp: Sweep, path):
+    """The lines printed after a sweep; ``stored`` is :func:`~lubelink.sweep.store.outcome` of its results."""
+    done, status_all, message, attrs = stored
+    status = status_all[done]
     counts = {}
     for s in status:
         counts[str(s)] = counts.get(str(s), 0) + 1
-    n_done = int(ds.done.sum())
+    n_done = int(done.sum())
     complete = counts.pop("complete", 0)
-    run = json.loads(ds.attrs.get("runs", "[]") or "[]")
+    run = json.loads(attrs.get("runs", "[]") or "[]")
     last = run[-1] if run else {}
     rows = [
         ("sweep", f"{sp.origin}: {sp.size} points (" + " x ".join(f"{d} {n}" for d, n in zip(sp.dims, sp.shape)) + ")"),
@@ -146,8 +148,8 @@ def _summary(ds, sp: Sweep, path):
     if n_done < sp.size:
         rows.append(("remaining", f"{sp.size - n_done} points; run the same command again to compute them"))
     if counts:
-        first = next(i for i, s in enumerate(ds.status.values.reshape(-1)) if str(s) not in ("complete", ""))
-        rows.append(("first failure", f"{sp.label(first)}: {ds.message.values.reshape(-1)[first]}"))
+        first = next(i for i, s in enumerate(status_all) if str(s) not in ("complete", ""))
+        rows.append(("first failure", f"{sp.label(first)}: {message[first]}"))
     return _table(rows)
 
 
@@ -213,7 +215,7 @@ def _cmd_sweep(args):
     if not args.quiet:
         print(f"{sp.origin}: {sp.size:,} points -> {out}; estimate {estimate}", file=sys.stderr)
     try:
-        ds = run_sweep(sp, out, executor=args.executor, scheduler=args.scheduler, workers=workers,
+        results = _run_sweep(sp, out, executor=args.executor, scheduler=args.scheduler, workers=workers,
                        retry_failed=args.retry_failed,
                        overwrite=args.overwrite, progress=not args.quiet, trace=args.trace,
                        max_points=max_points)
@@ -222,16 +224,17 @@ def _cmd_sweep(args):
     except KeyboardInterrupt as exc:
         stored = "?"
         with contextlib.suppress(Exception):
-            stored = int(load_sweep(out).done.sum())
+            stored = int(outcome(out)[0].sum())  # (Zarr alone: xarray would take a second or two to import)
         if not (out.exists() or _side_store(out).exists()):
             print(f"lubelink: {interrupted(exc)}; no point was stored", file=sys.stderr)
         else:
             print(f"lubelink: {interrupted(exc)}; {stored} of {sp.size} points are stored in {out}; run the same "
                   "command again to resume", file=sys.stderr)
         return exit_status(exc)
+    stored = outcome(results)
     if not args.quiet:
-        print(_summary(ds, sp, out))
-    return 0 if bool(ds.done.all()) else 1
+        print(_summary(stored, sp, out))
+    return 0 if bool(stored[0].all()) else 1
 
 
 def _cmd_plot_sweep(args):

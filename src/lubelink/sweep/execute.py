@@ -25,7 +25,7 @@ import numpy as np
 from ..config import ConfigError
 from ..params import sample_times
 from .compute import _empty_record, _TaskOptions
-from .local import Tally, _bar, _cpu_count, run_pool, run_serial
+from .local import Tally, _bar, _cpu_count, free_cores, run_pool, run_serial, start_server
 from .on_dask import LOCAL_CLUSTER_CONFIG, _dask_client, _execute, _threads
 from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .schema import SweepError
@@ -66,13 +66,21 @@ def serial_seconds(sp, n_points, sample=16):
 
 def choose_executor(sp, n_points, executor="auto", workers=None, dask_given=False):
     """``(kind, workers, line)``: where ``n_points`` points of ``sp`` run (``"serial"``,
-    ``"processes"`` or ``"dask"``), on how many worker processes, and one line saying why."""
-    n = workers or _cpu_count()
+    ``"processes"`` or ``"dask"``), on how many worker processes, and one line saying why.
+
+    ``"auto"`` without ``workers`` starts a worker per free core (:func:`~lubelink.sweep.local.free_cores`:
+    those the other processes of the machine leave idle, rounded to the nearest): with one core free
+    (or none), the points run in this process."""
+    n, load = workers or _cpu_count(), ""
+    if executor == "auto" and not workers and not dask_given and n > 1:
+        free, busy = free_cores()
+        n = max(1, min(n, int(free + 0.5)))
+        load = f"; other processes keep {busy:.1f} of {_cpu_count()} cores busy"
     if executor == "auto":
         if dask_given:
             kind, why = "dask", "a Dask client or scheduler was given"
         elif n == 1:
-            kind, why = "serial", "one worker"
+            kind, why = "serial", "one worker" if not load else "one core free"
         else:
             est = serial_seconds(sp, n_points)
             if est < SERIAL_SECONDS:
@@ -83,6 +91,7 @@ def choose_executor(sp, n_points, executor="auto", workers=None, dask_given=Fals
                 kind, why = "processes", f"about {est:.3g} s of simulation"
     else:
         kind, why = executor, "asked for"
+    why += load
     if kind == "serial":
         return kind, 1, f"{n_points:,} point(s) in this process ({why})"
     if kind == "processes":
@@ -160,6 +169,16 @@ def run_sweep(sweep, store=None, *, executor="auto", client=None, scheduler=None
         A store of another sweep, a store in use, an unreachable scheduler, an output that cannot
         be written, a sweep larger than ``max_points``.
     """
+    return load_sweep(_run_sweep(sweep, store, executor=executor, client=client, scheduler=scheduler, workers=workers,
+                                 retry_failed=retry_failed, overwrite=overwrite, progress=progress, trace=trace,
+                                 task_seconds=task_seconds, max_points=max_points))
+
+
+def _run_sweep(sweep, store=None, *, executor="auto", client=None, scheduler=None, workers=None, retry_failed=False,
+               overwrite=False, progress=True, trace=None, task_seconds=0.5, max_points=None):
+    """:func:`run_sweep` without loading the results: the path they are in (the command reads its
+    summary from the store with Zarr alone, :func:`lubelink.sweep.store.outcome`; xarray and its
+    Dask import cost about 1.5 s)."""
     sp = read_sweep(sweep)
     if store is None:
         if sp.origin in ("sweep", "store"):
@@ -213,6 +232,18 @@ def output_problem(path):
 
 
 def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, progress, trace, task_seconds):
+    opts = _TaskOptions(quantities=sp.quantities, time_series=sp.time_series, max_impacts=sp.max_impacts,
+                        n_time=len(sample_times(sp.base_config.solver)) if sp.time_series else 0,
+                        output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
+    choice = ready = None
+    if client is None and not os.path.lexists(_side_store(path) if _is_netcdf(path) else path) \
+            and not (_is_netcdf(path) and path.exists()):
+        # a new store: every point is pending (less the invalid ones), so the executor is known now, and a
+        # pool's server imports lubelink and loads the kernels while the points are validated and the store
+        # is built (about 2 s of a start)
+        choice = choose_executor(sp, sp.size, executor, workers, False)
+        if choice[0] == "processes":
+            ready = start_server(sp, 0, opts)
     bar = _bar(progress, sp.size, "validating") if sp.size >= 500 else None
     try:
         invalid = sp.invalid_points_of(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
@@ -234,7 +265,7 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
             elif not len(_pending(valid, previous.done.values.reshape(-1), previous.status.values.reshape(-1),
                                   retry_failed)) \
                     and not _unrecorded(invalid, previous.done.values.reshape(-1)):
-                return previous  # nothing to do
+                return path  # nothing to do
         else:
             previous = None
         st = _Store.open(side, sp, overwrite=overwrite)
@@ -256,14 +287,13 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
         pending = _pending(valid, done, status, retry_failed)
         session["resumed"] = int(done.sum()) - int(done[pending].sum())
         if len(pending):
-            kind, n, why = choose_executor(sp, len(pending), executor, workers, client is not None)
+            if choice is None or len(pending) != sp.size:
+                choice = choose_executor(sp, len(pending), executor, workers, client is not None)
+            kind, n, why = choice
             session["executor"] = kind
             log.info("%s", why)
             if progress:
                 print(f"lubelink sweep: {why}", file=sys.stderr, flush=True)
-            opts = _TaskOptions(quantities=sp.quantities, time_series=sp.time_series, max_impacts=sp.max_impacts,
-                                n_time=len(sample_times(sp.base_config.solver)) if sp.time_series else 0,
-                                output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
             trace = str(Path(trace).resolve()) if trace else None
             if kind == "dask":
                 with _dask_client(client, None, workers) as (cl, described):
@@ -280,7 +310,7 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
                     if kind == "serial":
                         run_serial(sp, pending, opts, trace, tally)
                     else:
-                        run_pool(sp, pending, opts, trace, tally, n, task_seconds)
+                        run_pool(sp, pending, opts, trace, tally, n, task_seconds, ready)
                 finally:
                     tally.close()
     except BaseException:
@@ -300,7 +330,7 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
                 ds = _export_netcdf(st.path, export)
                 if bool(ds.done.all()):
                     shutil.rmtree(st.path, ignore_errors=True)
-    return load_sweep(path)
+    return path
 
 
 #: Alias of :func:`run_sweep`.

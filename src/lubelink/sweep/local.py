@@ -14,13 +14,14 @@ import contextlib
 import math
 import os
 import sys
+import time
 from collections import deque
 
 import numpy as np
 
 from .compute import _compute_points, _empty_record
 
-__all__ = ["run_serial", "run_pool", "Tally", "Batcher", "POOL_CONTEXT", "DEATHS"]
+__all__ = ["run_serial", "run_pool", "start_server", "free_cores", "Tally", "Batcher", "POOL_CONTEXT", "DEATHS"]
 
 #: Start method of the pool's processes: ``forkserver`` (a server process imports lubelink once,
 #: each worker is a fork of it: no copy of a parent's threads, 0.04 s to shut down) where it
@@ -28,8 +29,9 @@ __all__ = ["run_serial", "run_pool", "Tally", "Batcher", "POOL_CONTEXT", "DEATHS
 #: kernels loaded from Numba's cache), two runs: ``spawn`` 3.7-5.7 s and 1.0-1.3 s to shut down,
 #: ``forkserver`` 3.5-4.6 s and 0.04 s (``fork`` 2.4-3.4 s, but unsafe beside threads).
 POOL_CONTEXT = "forkserver"
-#: Modules the forkserver imports once for all its workers.
-PRELOAD = ["lubelink.sweep.compute", "lubelink.simulate", "lubelink.results"]
+#: Modules the forkserver imports once for all its workers; the last runs the sweep's first point for a
+#: moment (:mod:`lubelink.sweep._warm`), so that every worker starts with its kernels loaded.
+PRELOAD = ["lubelink.sweep.compute", "lubelink.simulate", "lubelink.results", "lubelink.sweep._warm"]
 #: A point that breaks the pool this many times, computed alone, is stored as ``worker_died``
 #: (Dask's ``distributed.scheduler.allowed-failures`` is 3 as well).
 DEATHS = 3
@@ -40,6 +42,51 @@ def _cpu_count() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:
         return os.cpu_count() or 1
+
+
+#: Seconds of CPU use :func:`free_cores` looks back on: since this module was imported (a command's
+#: start-up) when that is between :data:`LOOK_MIN` and :data:`LOOK_MAX`, else a fresh sample this long.
+LOOK_MIN, LOOK_MAX = 0.3, 30.0
+
+
+def _cpu_sample():
+    """``(wall [s], busy [s of CPU, all processes], own [s of CPU, this process])``, or None without /proc/stat."""
+    try:
+        with open("/proc/stat", "rb") as f:
+            ticks = [int(v) for v in f.readline().split()[1:9]]
+        hz = os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, AttributeError):
+        return None
+    idle = ticks[3] + ticks[4]  # idle, iowait
+    return time.monotonic(), (sum(ticks) - idle) / hz, time.process_time()
+
+
+_MARK = _cpu_sample()
+
+
+def free_cores():
+    """``(free, busy)``: cores of this process's affinity not kept busy by other processes [cores], and
+    how many the others kept busy, measured from /proc/stat (the CPU time of every process less this
+    process's own, over the time since this module was imported, or a fresh 0.3 s sample); from the
+    1-minute load average where there is no /proc/stat."""
+    cores = _cpu_count()
+    mark = _MARK
+    now = _cpu_sample()
+    if mark is None or now is None:
+        try:
+            busy = os.getloadavg()[0]
+        except (OSError, AttributeError):
+            return float(cores), 0.0
+        return max(0.0, cores - busy), busy
+    if not LOOK_MIN <= now[0] - mark[0] <= LOOK_MAX:
+        mark = now
+        time.sleep(LOOK_MIN)
+        now = _cpu_sample()
+    wall = max(now[0] - mark[0], 1e-3)
+    others = max(0.0, (now[1] - mark[1]) - (now[2] - mark[2])) / wall
+    total = os.cpu_count() or cores  # /proc/stat counts every core, not only those of the affinity
+    busy = min(float(cores), others * cores / total)
+    return max(0.0, cores - busy), busy
 
 
 @contextlib.contextmanager
@@ -215,6 +262,79 @@ def _context():
     return ctx
 
 
+def start_server(sp, flat, opts):
+    """Start the pool's forkserver now (where there is one; SIGINT held as :func:`_new_pool` holds it),
+    warming up on point ``flat`` of ``sp`` (:mod:`lubelink.sweep._warm`), without waiting for it: it
+    imports lubelink and loads the point's kernels while this process builds the store. Returns the
+    file the server creates once ready (for :func:`run_pool`'s ``ready``), or None."""
+    import json
+
+    from ..config import to_toml
+    from ._warm import ENV
+    from .spec import config_with
+
+    ctx = _context()
+    if ctx.get_start_method() != "forkserver":
+        return None
+    from multiprocessing import forkserver
+
+    if getattr(forkserver._forkserver, "_forkserver_pid", None) is not None:
+        return None  # already running (an earlier sweep of this process): its preload is done
+
+    import tempfile
+
+    ready = os.path.join(tempfile.gettempdir(), f"lubelink-warm-{os.getpid()}-{time.monotonic_ns()}")
+    point = {"config": to_toml(config_with(sp.base_config, sp.overrides(flat))), "quantities": list(opts.quantities),
+             "max_impacts": opts.max_impacts, "ready": ready, "parent": os.getpid()}
+    held = _hold_sigint()
+    before = os.environ.get(ENV)
+    os.environ[ENV] = json.dumps(point)  # the server's environment (read once, by its preload)
+    try:
+        forkserver.ensure_running()
+    finally:
+        if before is None:
+            os.environ.pop(ENV, None)
+        else:
+            os.environ[ENV] = before
+        held()
+    if not _OUTSTANDING:
+        import atexit
+
+        atexit.register(_remove_outstanding)
+    _OUTSTANDING.add(ready)
+    return ready
+
+
+#: Ready files of servers started by :func:`start_server` that no :func:`_await_server` consumed (a sweep
+#: stopped before its pool started): removed at exit.
+_OUTSTANDING = set()
+
+
+def _remove_outstanding():
+    for ready in list(_OUTSTANDING):
+        with contextlib.suppress(OSError):
+            os.unlink(ready)
+    _OUTSTANDING.clear()
+
+
+#: Longest wait [s] for the server's warm-up (a cold cache compiles there) before the workers start anyway.
+READY_WAIT = 600.0
+
+
+def _await_server(ready):
+    """Wait (Ctrl-C works) until the server started by :func:`start_server` has done its warm-up."""
+    if not ready:
+        return
+    deadline = time.monotonic() + READY_WAIT
+    try:
+        while not os.path.exists(ready) and time.monotonic() < deadline:
+            time.sleep(0.01)
+    finally:
+        _OUTSTANDING.discard(ready)
+        with contextlib.suppress(OSError):
+            os.unlink(ready)
+
+
 def _new_pool(workers):
     """A pool of ``workers`` processes, all started now with SIGINT blocked (its forkserver too, and so
     every worker, forked from it): Ctrl-C at a terminal, which reaches the whole process group, is
@@ -255,13 +375,14 @@ def _stop(pool):
     pool.shutdown(wait=False, cancel_futures=True)
 
 
-def run_pool(sp, pending, opts, trace, tally, workers, task_seconds):
+def run_pool(sp, pending, opts, trace, tally, workers, task_seconds, ready=None):
     """Compute the points on a pool of ``workers`` processes, a moving window of tasks in flight, each
     task's points stored as it completes.
 
     A worker that dies (killed, out of memory) breaks the pool: its points and those of the other
     tasks in flight are computed again, one point a task and one task at a time, on a new pool; a
-    point that breaks it :data:`DEATHS` times alone is stored as ``worker_died``.
+    point that breaks it :data:`DEATHS` times alone is stored as ``worker_died``. ``ready``: the file
+    of :func:`start_server` to wait for first.
     """
     from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
@@ -272,6 +393,7 @@ def run_pool(sp, pending, opts, trace, tally, workers, task_seconds):
     window = 2 * workers + 1
     active = {}
     with _main_not_rerun():  # a worker does not run the caller's __main__ script again
+        _await_server(ready)
         pool = _new_pool(workers)
         try:
             while active or batcher or suspects:

@@ -24,11 +24,11 @@ import numpy as np
 
 from .._files import atomic_path, read_netcdf
 from ..netcdf import renamed
-from .layout import _template
+from .layout import write_empty
 from .schema import ALWAYS, QUANTITIES, SWEEP_FORMAT, SweepError
 from .spec import Sweep
 
-__all__ = ["load_sweep", "point_config", "JOURNAL", "COMPACT_INTERVAL"]
+__all__ = ["load_sweep", "point_config", "outcome", "JOURNAL", "COMPACT_INTERVAL"]
 
 JOURNAL = "journal.jsonl"
 LOCK = "lock"
@@ -207,18 +207,7 @@ class _Store:
 
     def _build_and_publish(self):
         with atomic_path(self.path, overwrite=False, directory=True) as tmp:
-            ds, encoding = _template(self.sweep)
-            import warnings
-
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", category=UserWarning)
-                ds.to_zarr(str(tmp), mode="w-", compute=False, consolidated=False, encoding=encoding)
-            import zarr
-
-            g = zarr.open_group(str(tmp), mode="r+")
-            for name, var in ds.variables.items():  # compute=False leaves numpy-backed arrays unwritten
-                if not hasattr(var.data, "dask"):
-                    g[name][...] = var.values
+            write_empty(self.sweep, tmp)
             (tmp / JOURNAL).touch()
             self._lock(tmp)  # held from the store's first appearance under its name
 
@@ -382,6 +371,29 @@ def load_sweep(path):
         for name, (index, values) in _scatter(records, shape, quantities, ds.sizes.get("impact", 0)).items():
             ds[name].data[index] = values
     return ds
+
+
+def outcome(path):
+    """``(done, status, message, attrs)`` of a sweep's results: flat arrays over the points and the
+    store's attributes. Read with Zarr alone from a Zarr store (its journal included); a NetCDF
+    export through :func:`load_sweep`."""
+    path = Path(path)
+    if _is_netcdf(path) and not _side_store(path).exists():
+        ds = load_sweep(path)
+        return (ds.done.values.reshape(-1), ds.status.values.reshape(-1), ds.message.values.reshape(-1),
+                dict(ds.attrs))
+    import zarr
+
+    folder = _side_store(path) if _is_netcdf(path) else path
+    g = zarr.open_group(str(folder), mode="r")
+    attrs = dict(g.attrs)
+    _check_format(path, attrs)
+    arrays = {name: np.asarray(g[name][...]) for name in ("done", "status", "message")}
+    arrays["status"], arrays["message"] = arrays["status"].astype(object), arrays["message"].astype(object)
+    for name, (index, values) in _scatter(_read_journal(folder / JOURNAL), arrays["done"].shape, (), 0).items():
+        if name in arrays:
+            arrays[name][index] = values
+    return arrays["done"].reshape(-1), arrays["status"].reshape(-1), arrays["message"].reshape(-1), attrs
 
 
 def point_config(results, point):
