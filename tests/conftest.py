@@ -46,3 +46,36 @@ def pytest_configure(config):
     from lubelink.warmup import compile_all
 
     compile_all()
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With ``LUBELINK_COMPILE_LOG=FILE``, append each test's compilation time in its own process [s] to ``FILE``
+    (a tab-separated line: seconds, test): what a cold suite spends compiling, test by test."""
+    path = os.environ.get("LUBELINK_COMPILE_LOG")
+    if not path:
+        yield
+        return
+    import time
+
+    from numba.core import event
+
+    class Clock(event.Listener):
+        depth, start, seconds = 0, 0.0, 0.0
+
+        def on_start(self, ev):
+            if self.depth == 0:
+                self.start = time.perf_counter()
+            self.depth += 1
+
+        def on_end(self, ev):
+            self.depth -= 1
+            if self.depth == 0:
+                self.seconds += time.perf_counter() - self.start
+
+    clock = Clock()
+    with event.install_listener("numba:compile", clock):
+        yield
+    if clock.seconds > 0.0:
+        with open(path, "a") as f:
+            f.write(f"{clock.seconds:.1f}\t{item.nodeid}\n")
