@@ -43,9 +43,11 @@ def pytest_configure(config):
     """
     if hasattr(config, "workerinput"):  # a worker: the controller has compiled
         return
+    import sys
+
     from lubelink.warmup import compile_all
 
-    compile_all()
+    print(f"lubelink.warmup.compile_all: {compile_all():.0f} s", file=sys.stderr)
 
 
 @pytest.hookimpl(hookwrapper=True)

@@ -8,7 +8,7 @@ up front for every compiled method and every built-in scenario: before a test se
 worker of a cluster, or in a container image; ``tests/test_warmup.py`` checks that nothing a
 built-in scenario or the steady-state commands run compiles after it.
 
-With two free cores a second process compiles the film scenarios' kinds (:data:`SECOND`) while this
+With two cores a second process compiles the spatial link and the film scenarios' kinds (:data:`SECOND`) while this
 one compiles the rest; this process then runs those steps too, which loads what the other wrote
 (and compiles anything the other's cache writes lost to a race on a shared index file).
 """
@@ -24,10 +24,10 @@ __all__ = ["compile_all", "steps", "SECOND"]
 
 METHODS = ("auto", "DOP853", "bulirsch-stoer", "exponential", "exponential-adams", "rodas")
 
-#: The steps a second process takes (the costliest kinds but those of the methods and the spatial link: about
-#: half the work of a cold :func:`compile_all`).
-SECOND = ("compliant results", "scenario paper-impact", "scenario lubricated", "scenario guide",
-          "scenario guide-mixed")
+#: The steps a second process takes (the spatial link and the film scenarios' kinds: about half the work of a cold
+#: :func:`compile_all`).
+SECOND = ("spatial", "variational spatial", "scenario spatial-slider-crank", "compliant results",
+          "scenario paper-impact", "scenario lubricated", "scenario guide", "scenario guide-mixed")
 
 
 def _short(name, **overrides):
@@ -69,15 +69,16 @@ def _spatial():
     to_dataset(spatial_run)
 
 
-def _variational():
+def _variational(spatial=False):
     import numpy as np
 
     from .build import build_model
     from .config import resolve
     from .steady.variational import flow_with_jacobian
 
-    for config in (resolve("paper", {"beam.modes": 2}), resolve("paper-dry"),
-                   resolve("spatial-slider-crank", {"beam.modes": 2})):
+    configs = ((resolve("spatial-slider-crank", {"beam.modes": 2}),) if spatial
+               else (resolve("paper", {"beam.modes": 2}), resolve("paper-dry")))
+    for config in configs:
         m = build_model(config)
         n = m.initial_state().size
         flow_with_jacobian(m.functions()[0], m.params, 0.0, np.zeros(n), 1e-3, np.ones(n), p_type=m.params_type,
@@ -106,6 +107,8 @@ def steps(methods=METHODS):
     out["compliant results"] = ("compiling the results of a compliant contact", _compliant_results)
     out["spatial"] = ("compiling the spatial model (beam.model = 'spatial')", _spatial)
     out["variational"] = ("compiling the variational equations (lubelink periodic, lubelink continue)", _variational)
+    out["variational spatial"] = ("compiling the spatial link's variational equations",
+                                  lambda: _variational(spatial=True))
     # every built-in scenario: a film option given or not (a cavitation table, rough surfaces, a contact law) changes
     # the parameters' type, and with it the kernels and the method its "auto" chooses
     for name in SCENARIOS:
@@ -147,12 +150,16 @@ def compile_all(methods=METHODS, progress=None, processes=2):
     todo = steps(methods)
     other = _second_process([n for n in SECOND if n in todo]) if processes > 1 else None
     later = [n for n in SECOND if n in todo] if other is not None else []
+    ended = False
     for name, (message, step) in todo.items():
         if name in later:
             continue
         if progress:
             progress(message)
         step()
+        if progress and other is not None and not ended and other.poll() is not None:
+            ended = True
+            progress(f"(the second process has ended, {time.perf_counter() - start:.0f} s in)")
     if other is not None:
         if progress:
             progress("waiting for the second process")
