@@ -204,7 +204,7 @@ def main():
         line = f"  {name}: Exudyn {w**2 - w0**2:8.2f}, lubelink {modal_shift(case):8.2f}"
         if case["gamma"] == 0.0 and case["psi"] != 0.0:
             line += f" (without the chord's rotation {modal_shift(case, rotation=False):6.2f})"
-        print(line + f"  (solve {solve:.0f} s)", flush=True)
+        print(line + f"  (solve {solve:.1f} s)", flush=True)
 
 
 if __name__ == "__main__":

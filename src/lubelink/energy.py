@@ -16,7 +16,8 @@ forces [N] (the spatial link's axial block with a free end: its own modes' veloc
   Coriolis accelerations of the deflection (planar: the centrifugal softening ``omega^2 q``;
   spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work), and the geometric
   stiffness of the rigid motion's axial force (``beam.axial_force``, :mod:`lubelink.link.axial`: a stiffness
-  that changes in time, so a load that works rather than a potential);
+  that changes in time, so a load that works rather than a potential) with the inertia of the chord's rotation
+  under the slider (its modal forces at the run's accelerations, :func:`lubelink.link.axial.chord_rotation_force`);
 * the structural damping, ``-2 zeta m sum W_i eta_dot_i^2 <= 0``;
 * the film, the asperity contact (on each pair of faces, :mod:`lubelink.link.faces`), the joint
   reaction of the collar;

@@ -8,7 +8,8 @@ modal equation (docs/model.md section 2, paper Eq. 18 corrected):
                + (F_n^film + F_n^contact + R sin(beta_n x_star) - sum_m K_nm q_m) / (rho A L / 2)
 
 with ``g_j`` gravity along the link's ``j`` axis and ``K_nm`` the geometric stiffness of the axial force
-(:mod:`.axial`; zero and compiled out unless ``beam.axial_force = "inertial"``). Every term comes from its physics module
+(:mod:`.axial`; zero and compiled out unless ``beam.axial_force = "inertial"``, which also corrects the
+accelerations for the rotation of the chord under the slider, :func:`chord_on`). Every term comes from its physics module
 (:mod:`.kinematics`, :mod:`.beam`, :mod:`.film`, :mod:`.contact`); :func:`rhs`, :func:`gap` (the event
 and its rate) are what the integrators run, compiled, or as Python on the ``numpy`` backend.
 
