@@ -166,8 +166,9 @@ SETS = {"beam.modes": 4, "beam.axial_force": "inertial", "mechanism.gravity": (2
 
 
 def test_the_right_hand_side_adds_minus_k_q_over_the_modal_mass():
-    """``dq_dot/dt`` with the axial force minus without it is ``-K q / m``, ``K`` the quadrature of the
-    Newton-Euler ``N(x)`` (cubic fit of 9 samples, exact for the quadratic) times ``phi_m' phi_n'``."""
+    """``dq_dot/dt`` with the axial force minus without it is ``(-K q + F_c) / m``, ``K`` the quadrature of the
+    Newton-Euler ``N(x)`` (cubic fit of 9 samples, exact for the quadratic) times ``phi_m' phi_n'``, ``F_c`` the
+    chord rotation's forces at the resulting accelerations (tests/test_chord_rotation.py tests them)."""
     on, off = build_model(resolve("paper-dry", SETS)), build_model(resolve("paper-dry", {**SETS, "beam.axial_force": "none"}))
     assert off.params.geometric is None
     rng = np.random.default_rng(5)
@@ -181,8 +182,15 @@ def test_the_right_hand_side_adds_minus_k_q_over_the_modal_mass():
             bm, bn = (m + 1) * np.pi / L, (n + 1) * np.pi / L
             K[m, n] = quad(lambda x: np.polyval(coef, x) * bm * np.cos(bm * x) * bn * np.cos(bn * x), 0.0, L,
                            epsabs=1e-12, limit=200)[0]
-    got = on.rhs(t, y)[4:] - off.rhs(t, y)[4:]
-    np.testing.assert_allclose(got, -K @ y[:4] / (RHO_A * L / 2), rtol=0, atol=1e-6 * np.abs(K @ y[:4]).max())
+    acc = on.rhs(t, y)[4:]
+    got = acc - off.rhs(t, y)[4:]
+    g, k = on.params.geometric, slider_crank(t, 0.07, L, 10 * np.pi, 0.4)
+    F_c = np.empty(4)
+    axial.chord_rotation_force(g.lever, g.slopes, RHO_A, L, -k["theta"], k["omega"], k["alpha"], y[:4], y[4:], acc,
+                               F_c)
+    assert np.abs(F_c).max() > 1e-3 * np.abs(K @ y[:4]).max()  # the chord's rotation is there
+    np.testing.assert_allclose(got, (-K @ y[:4] + F_c) / (RHO_A * L / 2), rtol=0,
+                               atol=1e-6 * np.abs(K @ y[:4]).max())
 
 
 def test_the_jacobian_holds_the_geometric_stiffness():

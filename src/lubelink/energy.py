@@ -16,7 +16,8 @@ forces [N] (the spatial link's axial block with a free end: its own modes' veloc
   Coriolis accelerations of the deflection (planar: the centrifugal softening ``omega^2 q``;
   spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work), and the geometric
   stiffness of the rigid motion's axial force (``beam.axial_force``, :mod:`lubelink.link.axial`: a stiffness
-  that changes in time, so a load that works rather than a potential);
+  that changes in time, so a load that works rather than a potential) with the inertia of the chord's rotation
+  under the slider (its modal forces at the run's accelerations, :func:`lubelink.link.axial.chord_rotation_force`);
 * the structural damping, ``-2 zeta m sum W_i eta_dot_i^2 <= 0``;
 * the film, the asperity contact (on each pair of faces, :mod:`lubelink.link.faces`), the joint
   reaction of the collar;
@@ -48,7 +49,7 @@ from .integrate.cumulative import cumulative_simpson
 from .link import section, spatial, spatial_section
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
-from .link.model import geometric_on, effective_acceleration, stiffened
+from .link.model import chord_power, geometric_on, effective_acceleration, stiffened
 from .link.spatial_model import U2_U3
 from .link.spatial_model import effective_acceleration as spatial_effective_acceleration
 from .link.spatial_motion import spatial_motion_at
@@ -106,12 +107,13 @@ def _rigid_power(g, y, yq, A_eff, alpha, softening, p):
 
 @jitable
 def _geometric_power(g, t, kin, q, q_dot, p):
-    """The power [W] of the axial force's geometric stiffness on the planar link (``g`` None: none, compiled out)."""
+    """The power [W] of the axial force's geometric stiffness and of the chord's rotation on the planar link
+    (``g`` None: none, compiled out)."""
     if g is None:
         return 0.0
     F = np.zeros(q.shape[0])
     geometric_on(g, t, kin, q, p, F)
-    return np.dot(q_dot, F)
+    return np.dot(q_dot, F) + chord_power(g, t, kin, np.concatenate((q, q_dot)), p)
 
 
 @jitable

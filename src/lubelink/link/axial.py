@@ -15,6 +15,12 @@ only normal to its guide (the +X line of the slider-crank), so it does load the 
 modes ``phi_n = sin(beta_n x)``, the modal force ``-sum_n K_mn q_n`` with
 ``K_mn = int_0^L N phi_m' phi_n' dx = c0 P0_mn + c1 P1_mn + c2 P2_mn`` (tension stiffens), the ``P_k`` the
 slope moments ``int_0^L x^k phi_m' phi_n' dx`` in closed form (:func:`slope_moments`).
+
+The same slider turns the chord: a bent link is shorter between its ends by ``delta = int_0^L u2'^2 / 2 dx``,
+and with O held on the crank and C on the ``X`` axis its chord turns by ``dpsi = tan(angle) delta / L``
+(second order in the deflection). The points of the link move across it by ``x dpsi``: their inertia couples
+the modes through a mass that depends on the deflection (:func:`chord_rotation`, docs/model.md §1.5), the
+second half of the slider's second-order work (the first is ``N_C``'s stiffness).
 """
 
 from __future__ import annotations
@@ -27,15 +33,20 @@ from .._jit import jitable
 from ..beam import wavenumber
 
 __all__ = ["GeometricTable", "slope_moments", "slider_end_force", "axial_force_terms", "rigid_axial_force",
-           "axial_force", "geometric_stiffness", "geometric_load", "geometric_table"]
+           "axial_force", "geometric_stiffness", "geometric_load", "geometric_table", "chord_levers",
+           "chord_rotation", "chord_rotation_force", "chord_rotation_jacobian"]
 
 
 class GeometricTable(NamedTuple):
     """What compiled code reads for the geometric stiffness: ``moments`` ``(3, N, N)`` the slope moments
-    :func:`slope_moments` [m^-1, 1, m], ``mass_per_length`` ``rho A`` [kg/m]."""
+    :func:`slope_moments` [m^-1, 1, m], ``mass_per_length`` ``rho A`` [kg/m]; for the chord's rotation
+    (:func:`chord_rotation`) ``lever`` ``b_n = int_0^L x phi_n dx`` [m^2] and ``slopes`` ``D_n = int_0^L phi_n'^2 dx``
+    [1/m] (:func:`chord_levers`)."""
 
     moments: np.ndarray
     mass_per_length: float
+    lever: np.ndarray
+    slopes: np.ndarray
 
 
 def _cosine_moment(k, j, rod_length):
@@ -65,9 +76,20 @@ def slope_moments(modes, rod_length):
     return P
 
 
+def chord_levers(modes, rod_length):
+    """``(b, D)``: ``b_n = int_0^L x sin(beta_n x) dx = (-1)^(n+1) L / beta_n`` [m^2] (the moment about O of the
+    sine mode) and ``D_n = int_0^L phi_n'^2 dx = beta_n^2 L / 2`` [1/m] (so the chord shortens by
+    ``delta = sum_n D_n q_n^2 / 2``; the sine modes' slopes are orthogonal), each of shape ``(modes,)``."""
+    beta = np.array([wavenumber(n, rod_length) for n in range(1, modes + 1)])
+    sign = np.where(np.arange(1, modes + 1) % 2 == 1, 1.0, -1.0)
+    return sign * rod_length / beta, 0.5 * beta * beta * rod_length
+
+
 def geometric_table(modes, rod_length, mass_per_length):
     """The :class:`GeometricTable` of a uniform link of ``modes`` sine modes, length [m], ``rho A`` [kg/m]."""
-    return GeometricTable(np.ascontiguousarray(slope_moments(modes, rod_length)), float(mass_per_length))
+    b, D = chord_levers(modes, rod_length)
+    return GeometricTable(np.ascontiguousarray(slope_moments(modes, rod_length)), float(mass_per_length),
+                          np.ascontiguousarray(b), np.ascontiguousarray(D))
 
 
 @jitable
@@ -144,3 +166,133 @@ def geometric_load(moments, c0, c1, c2, q, F):
         for n in range(N):
             f += (c0 * moments[0, m, n] + c1 * moments[1, m, n] + c2 * moments[2, m, n]) * q[n]
         F[m] -= f
+
+
+@jitable
+def _chord_sums(lever, slopes, q, q_dot):
+    """``(delta [m], delta_dot [m/s], q_dot D q_dot [m/s^2], b.q [m^2], b.D q [m], (D q).(D q) [1], b.b [m^4])``."""
+    delta = delta_dot = vDv = bq = vb = vv = bb = 0.0
+    for n in range(q.shape[0]):
+        v = slopes[n] * q[n]
+        delta += 0.5 * v * q[n]
+        delta_dot += v * q_dot[n]
+        vDv += slopes[n] * q_dot[n] * q_dot[n]
+        bq += lever[n] * q[n]
+        vb += v * lever[n]
+        vv += v * v
+        bb += lever[n] * lever[n]
+    return delta, delta_dot, vDv, bq, vb, vv, bb
+
+
+@jitable
+def _chord_load(m, lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, sums):
+    """The chord rotation's modal force on mode ``m`` that does not hold the accelerations [N] (see
+    :func:`chord_rotation`): ``x_m = -(rho A / L) b_m (tau'' delta + 2 tau' delta' + tau q'.D q')
+    + (rho A omega^2 tau / L) (b_m delta + D_m q_m b.q)``."""
+    delta, delta_dot, vDv, bq = sums[0], sums[1], sums[2], sums[3]
+    tau = np.tan(angle)
+    sec2 = 1.0 + tau * tau
+    tau_dot = omega * sec2
+    tau_ddot = (alpha + 2.0 * omega * omega * tau) * sec2
+    r = mass_per_length / rod_length
+    return (-r * lever[m] * (tau_ddot * delta + 2.0 * tau_dot * delta_dot + tau * vDv)
+            + r * omega * omega * tau * (lever[m] * delta + slopes[m] * q[m] * bq))
+
+
+@jitable
+def chord_rotation(lever, slopes, mass_per_length, rod_length, modal_mass, angle, omega, alpha, q, q_dot, acc):
+    """Correct the modal accelerations ``acc`` [m/s^2] (in place) for the rotation of the link's chord.
+
+    ``acc`` holds the accelerations with the chord on the rigid link's (all forces over the modal mass
+    ``m`` [kg]). The chord turns by ``dpsi = tau delta / L`` (``tau = tan(angle)``, ``angle`` [rad] the link's
+    from +X, the slider's guide; ``delta = sum D_n q_n^2 / 2`` [m] the chord's shortening), so the link's
+    points move across it by ``x dpsi``; Lagrange's equations of ``T = rho A / 2 int (u2_dot + x dpsi_dot)^2``
+    (first order in ``dpsi``) and of the frame's ``-omega^2`` softening of it give
+
+        (m I + c (b v^T + v b^T)) q_ddot = m acc + x,    c = rho A tau / L,  v = D q,
+
+    with ``x`` of :func:`_chord_load`, ``omega`` [rad/s] and ``alpha`` [rad/s^2] the link's rate and angular
+    acceleration (``tau' = omega sec^2``, ``tau'' = (alpha + 2 omega^2 tau) sec^2``), ``lever``, ``slopes``
+    the :class:`GeometricTable`'s ``b`` [m^2], ``D`` [1/m], ``rho A`` [kg/m], ``L`` [m], ``q`` [m], ``q_dot``
+    [m/s]. The mass is the identity plus a rank-two term: solved exactly (Sherman-Morrison-Woodbury).
+    """
+    sums = _chord_sums(lever, slopes, q, q_dot)
+    vb, vv, bb = sums[4], sums[5], sums[6]
+    N = q.shape[0]
+    for n in range(N):
+        acc[n] += _chord_load(n, lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, sums) / modal_mass
+    _chord_solve(mass_per_length * np.tan(angle) / rod_length / modal_mass, lever, slopes, q, vb, vv, bb, acc)
+
+
+@jitable
+def chord_rotation_force(lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, q_dot, acc, F):
+    """The chord rotation's modal forces [N] into ``F`` given the final accelerations ``acc`` [m/s^2] (those
+    :func:`chord_rotation` returns): ``F = x - c (b (v.acc) + v (b.acc))``, what it adds to ``m q_ddot``
+    (its power closes the energy budget). Arguments as :func:`chord_rotation`."""
+    sums = _chord_sums(lever, slopes, q, q_dot)
+    c = mass_per_length * np.tan(angle) / rod_length
+    va = ba = 0.0
+    for n in range(q.shape[0]):
+        va += slopes[n] * q[n] * acc[n]
+        ba += lever[n] * acc[n]
+    for n in range(q.shape[0]):
+        F[n] = (_chord_load(n, lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, sums)
+                - c * (lever[n] * va + slopes[n] * q[n] * ba))
+
+
+@jitable
+def _chord_solve(k, lever, slopes, q, vb, vv, bb, col):
+    """``col <- (I + k (b v^T + v b^T))^-1 col`` (``v = D q``), in place (Sherman-Morrison-Woodbury)."""
+    vr = br = 0.0
+    for n in range(q.shape[0]):
+        vr += slopes[n] * q[n] * col[n]
+        br += lever[n] * col[n]
+    s00, s01, s10, s11 = 1.0 + k * vb, k * vv, k * bb, 1.0 + k * vb
+    det = s00 * s11 - s01 * s10
+    z0 = (s11 * vr - s01 * br) / det
+    z1 = (s00 * br - s10 * vr) / det
+    for n in range(q.shape[0]):
+        col[n] -= k * (lever[n] * z0 + slopes[n] * q[n] * z1)
+
+
+@jitable
+def chord_rotation_jacobian(lever, slopes, mass_per_length, rod_length, modal_mass, angle, omega, alpha, q, q_dot,
+                            acc, Jq, Jv):
+    """Turn ``Jq``, ``Jv`` (``d acc0/dq``, ``d acc0/dq_dot`` of the accelerations without the chord's rotation)
+    into those of :func:`chord_rotation`'s, in place, given its final accelerations ``acc``:
+    ``(I + k B)^-1 [J0 + dx/dy / m - k d(B acc)/dq]`` with ``B = b v^T + v b^T``, ``k = c / m``."""
+    delta, delta_dot, vDv, bq, vb, vv, bb = _chord_sums(lever, slopes, q, q_dot)
+    tau = np.tan(angle)
+    sec2 = 1.0 + tau * tau
+    tau_dot = omega * sec2
+    tau_ddot = (alpha + 2.0 * omega * omega * tau) * sec2
+    r = mass_per_length / rod_length / modal_mass
+    k = mass_per_length * tau / rod_length / modal_mass
+    w2 = omega * omega * tau
+    N = q.shape[0]
+    ba = 0.0
+    for n in range(N):
+        ba += lever[n] * acc[n]
+    for m in range(N):
+        for n in range(N):
+            vn = slopes[n] * q[n]
+            Jq[m, n] += (-r * lever[m] * (tau_ddot * vn + 2.0 * tau_dot * slopes[n] * q_dot[n])
+                         + r * w2 * (lever[m] * vn + slopes[m] * q[m] * lever[n])
+                         - k * lever[m] * slopes[n] * acc[n])
+            Jv[m, n] += -r * lever[m] * 2.0 * (tau_dot * vn + tau * slopes[n] * q_dot[n])
+        Jq[m, m] += slopes[m] * (r * w2 * bq - k * ba)
+    _chord_solve_columns(k, lever, slopes, q, vb, vv, bb, Jq)
+    _chord_solve_columns(k, lever, slopes, q, vb, vv, bb, Jv)
+
+
+@jitable
+def _chord_solve_columns(k, lever, slopes, q, vb, vv, bb, J):
+    """:func:`_chord_solve` on every column of ``J``, in place."""
+    N = q.shape[0]
+    col = np.empty(N)
+    for n in range(N):
+        for m in range(N):
+            col[m] = J[m, n]
+        _chord_solve(k, lever, slopes, q, vb, vv, bb, col)
+        for m in range(N):
+            J[m, n] = col[m]

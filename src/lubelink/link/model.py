@@ -8,7 +8,8 @@ modal equation (docs/model.md section 2, paper Eq. 18 corrected):
                + (F_n^film + F_n^contact + R sin(beta_n x_star) - sum_m K_nm q_m) / (rho A L / 2)
 
 with ``g_j`` gravity along the link's ``j`` axis and ``K_nm`` the geometric stiffness of the axial force
-(:mod:`.axial`; zero and compiled out unless ``beam.axial_force = "inertial"``). Every term comes from its physics module
+(:mod:`.axial`; zero and compiled out unless ``beam.axial_force = "inertial"``, which also corrects the
+accelerations for the rotation of the chord under the slider, :func:`chord_on`). Every term comes from its physics module
 (:mod:`.kinematics`, :mod:`.beam`, :mod:`.film`, :mod:`.contact`); :func:`rhs`, :func:`gap` (the event
 and its rate) are what the integrators run, compiled, or as Python on the ``numpy`` backend.
 
@@ -112,6 +113,7 @@ def rhs_given(t, kin, y, out, p):
             forcing -= 2.0 * omega * omega * y[n]
         out[N + n] = beam.modal_acceleration(y[n], y[N + n], p.basis.omega_n[n], zeta, omega, forcing)
         out[n] = y[N + n]
+    chord_on(p.geometric, kin, y, out, p)
 
 
 @jitable(inline=True)
@@ -148,6 +150,44 @@ def geometric_on(g, t, kin, q, p, F):
         return
     c0, c1, c2 = axial_terms(g, t, kin, p)
     axial.geometric_load(g.moments, c0, c1, c2, q, F)
+
+
+@jitable
+def chord_on(g, kin, y, out, p):
+    """Correct the accelerations in ``out[N:]`` for the rotation of the chord the slider forces on the bent link
+    (:func:`~lubelink.link.axial.chord_rotation`; ``g`` None: ``beam.axial_force = "none"``, nothing)."""
+    if g is None:
+        return
+    N = p.basis.modes
+    axial.chord_rotation(g.lever, g.slopes, g.mass_per_length, p.basis.rod_length, p.basis.modal_mass, kin.angle,
+                         kin.omega, kin.alpha, y[:N], y[N:], out[N:])
+
+
+@jitable
+def chord_power(g, t, kin, y, p):
+    """The power [W] of the chord rotation's modal forces (:func:`~lubelink.link.axial.chord_rotation_force`) at
+    the state ``y`` of the uniform planar link (``g`` None: 0)."""
+    if g is None:
+        return 0.0
+    N = p.basis.modes
+    d = np.empty(2 * N)
+    rhs_called(t, kin, y, d, p)
+    F = np.empty(N)
+    axial.chord_rotation_force(g.lever, g.slopes, g.mass_per_length, p.basis.rod_length, kin.angle, kin.omega,
+                               kin.alpha, y[:N], y[N:], d[N:], F)
+    return np.dot(y[N:], F)
+
+
+@jitable
+def _chord_jacobian(g, t, kin, y, J, p):
+    """Turn the accelerations' rows of ``J`` into those with the chord's rotation (``g`` None: nothing)."""
+    if g is None:
+        return
+    N = p.basis.modes
+    d = np.empty(2 * N)
+    rhs_called(t, kin, y, d, p)
+    axial.chord_rotation_jacobian(g.lever, g.slopes, g.mass_per_length, p.basis.rod_length, p.basis.modal_mass,
+                                  kin.angle, kin.omega, kin.alpha, y[:N], y[N:], d[N:], J[N:, :N], J[N:, N:])
 
 
 @jitable
@@ -270,6 +310,7 @@ def jacobian_given(t, kin, y, J, p):
         w = p.basis.omega_n[n]
         Jq[n, n] -= w * w - omega * omega + (2.0 * omega * omega if stiffening else 0.0)
         Jv[n, n] -= 2.0 * p.beam.damping_ratio * w
+    _chord_jacobian(p.geometric, t, kin, y, J, p)
 
 
 @kernel
