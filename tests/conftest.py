@@ -50,6 +50,19 @@ def pytest_configure(config):
     print(f"lubelink.warmup.compile_all: {compile_all():.0f} s", file=sys.stderr)
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """Keep the cases of a parametrized test on one xdist worker (``--dist loadgroup``, by the test's name).
+
+    Its cases mostly share a kind of configuration, whose kernels the first case compiles and the others find in
+    memory; spread over two workers at the same moment, both would compile them (a cold suite compiled the 2-D
+    film's kernels twice, 70 s each, for two cases of one test).
+    """
+    for item in items:
+        if getattr(item, "callspec", None) is not None and item.get_closest_marker("xdist_group") is None:
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("[", 1)[0]))
+
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item, nextitem):
     """With ``LUBELINK_COMPILE_LOG=FILE``, append each test's compilation time in its own process [s] to ``FILE``
