@@ -196,6 +196,7 @@ def test_the_energy_budget_closes_with_the_axial_force(monkeypatch):
     assert missing > 10 * ds.attrs["energy_residual_relative"], missing
 
 
+@pytest.mark.slow  # compiles the spatial kernels with the geometric table (~17 s; the warm-up does not)
 def test_the_compiled_kernels_equal_their_python_source():
     """spatial_rhs with the axial force, compiled and as Python, on random states (a tilted crank)."""
     cfg = resolve("spatial-slider-crank", {"mechanism.crank_tilt": 0.3, "beam.axial_force": "inertial"})
