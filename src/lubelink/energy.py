@@ -16,8 +16,9 @@ forces [N] (the spatial link's axial block with a free end: its own modes' veloc
   Coriolis accelerations of the deflection (planar: the centrifugal softening ``omega^2 q``;
   spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work), and the geometric
   stiffness of the rigid motion's axial force (``beam.axial_force``, :mod:`lubelink.link.axial`: a stiffness
-  that changes in time, so a load that works rather than a potential) with the inertia of the chord's rotation
-  under the slider (its modal forces at the run's accelerations, :func:`lubelink.link.axial.chord_rotation_force`);
+  that changes in time, so a load that works rather than a potential; on both bending directions of the spatial
+  link) with the inertia of the chord's rotation under the slider (planar link; its modal forces at the run's
+  accelerations, :func:`lubelink.link.axial.chord_rotation_force`);
 * the structural damping, ``-2 zeta m sum W_i eta_dot_i^2 <= 0``;
 * the film, the asperity contact (on each pair of faces, :mod:`lubelink.link.faces`), the joint
   reaction of the collar;
@@ -50,7 +51,7 @@ from .link import section, spatial, spatial_section
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
 from .link.model import chord_power, geometric_on, effective_acceleration, stiffened
-from .link.spatial_model import U2_U3
+from .link.spatial_model import U2_U3, spatial_geometric_on
 from .link.spatial_model import effective_acceleration as spatial_effective_acceleration
 from .link.spatial_motion import spatial_motion_at
 
@@ -180,6 +181,18 @@ def _spatial_rigid_power(g, axial, y, yq, A, w, al, p):
 
 
 @jitable
+def _spatial_geometric_power(g, kin, yq, p):
+    """The power [W] of the axial force's geometric stiffness on both bending directions of the spatial link
+    (``g`` None: none, compiled out)."""
+    if g is None:
+        return 0.0
+    M = 3 * p.basis.modes
+    F = np.zeros(M)
+    spatial_geometric_on(g, kin, yq, p, F)
+    return np.dot(yq[M:], F)
+
+
+@jitable
 def spatial_powers_given(kin, yq, p, out):
     """:func:`powers_given` of the spatial link: ``kin`` a :class:`~lubelink.link.spatial.SpatialRigidMotion`, ``yq``
     the sine-mode state ``(6 N,)``; the film and the asperity contact of every pair of faces the collar guides."""
@@ -190,7 +203,8 @@ def spatial_powers_given(kin, yq, p, out):
     out[:] = 0.0
     _oscillators(y, p.spatial.W, p.beam.damping_ratio, p.basis.modal_mass, out)
     A = spatial_effective_acceleration(kin.A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
-    out[1] = _spatial_rigid_power(g, p.spatial.axial, y, yq, A, kin.omega, kin.alpha, p)
+    out[1] = (_spatial_rigid_power(g, p.spatial.axial, y, yq, A, kin.omega, kin.alpha, p)
+              + _spatial_geometric_power(p.geometric, kin, yq, p))
     _face_powers(yq[N:2 * N], yq[M + N:M + 2 * N], kin.x_star, kin.V_r, p, p.beam.width, out)
     if p.film.faces == U2_U3:
         _face_powers(yq[2 * N:M], yq[M + 2 * N:], kin.x_star, kin.V_r, p, p.beam.height, out)

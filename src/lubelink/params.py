@@ -124,8 +124,8 @@ class Beam:
     axial_force : str
         The axial force ``N(x, t)`` in the link and its geometric stiffness ``(N u2')'`` (docs/model.md §1.5):
         ``"none"`` (the paper: dropped) or ``"inertial"``, the axial force of the link's inertia in its rigid
-        motion, gravity and the slider's reaction (:mod:`lubelink.link.axial`). The planar uniform link under
-        the slider-crank only.
+        motion, gravity and the slider's reaction (:mod:`lubelink.link.axial`). The uniform link under the
+        slider-crank only; the spatial link: the same force on ``u2`` and ``u3``, without the chord's rotation.
     """
 
     youngs_modulus: float = 207e9

@@ -164,12 +164,15 @@ def build_spatial_model(config, motion=None, section=None) -> SpatialModel:
     :mod:`lubelink.link.spatial_section`. Raises ConfigError for what the spatial model cannot run.
     """
     provider = SpatialSliderCrank(config.mechanism) if motion is None else motion
+    b, L = config.beam, config.mechanism.rod_length
     problems = motion_problems(provider, config)
     if not problems and provider.table() is None and config.contact.law == "restitution":
         problems.append("contact.law = 'restitution' with a spatial motion of callables: its sustained contact needs "
                         "the collar's acceleration, which callables do not give; give the motion as samples "
                         "(lubelink.link.spatial_motion.sampled_spatial_motion), or use contact.law = 'compliant' or 'none'")
-    b, L = config.beam, config.mechanism.rod_length
+    if not problems and b.axial_force != "none" and not isinstance(provider, SpatialSliderCrank):
+        problems.append(f"beam.axial_force = {b.axial_force!r}: needs the slider-crank's motion (the slider's guide), "
+                        f"not {type(provider).__name__}; use beam.axial_force = 'none'")
     variable = section is not None or not b.uniform
     if variable and config.film.faces == "u2+u3":
         problems.append("film.faces = 'u2+u3' with a variable section (section= or the taper keys) is not supported "

@@ -200,10 +200,9 @@ def validate(config: Config) -> Config:
     if not spatial and b.axial_end != "free":
         problems.append(f"beam.axial_end = {_fmt(b.axial_end)}: an axial end condition needs beam.model = 'spatial' "
                         "(the planar model has no u1); use beam.axial_end = 'free' or beam.model = 'spatial'")
-    if b.axial_force != "none" and (spatial or not b.uniform):
-        problems.append(f"beam.axial_force = {_fmt(b.axial_force)}: the axial force is modelled on the planar "
-                        "uniform link only (beam.model = 'planar', beam.width_ratio = beam.height_ratio = 1); "
-                        "use beam.axial_force = 'none'")
+    if b.axial_force != "none" and not b.uniform:
+        problems.append(f"beam.axial_force = {_fmt(b.axial_force)}: the axial force is modelled on the uniform "
+                        "link only (beam.width_ratio = beam.height_ratio = 1); use beam.axial_force = 'none'")
     if not spatial and fm.faces != "u2":
         problems.append(f"film.faces = {_fmt(fm.faces)}: a film pair on the u3 faces needs beam.model = 'spatial' "
                         "(the planar model has no u3); use film.faces = 'u2' or beam.model = 'spatial'")

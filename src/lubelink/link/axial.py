@@ -33,7 +33,8 @@ from .._jit import jitable
 from ..beam import wavenumber
 
 __all__ = ["GeometricTable", "slope_moments", "slider_end_force", "axial_force_terms", "rigid_axial_force",
-           "axial_force", "geometric_stiffness", "geometric_load", "geometric_table", "chord_levers",
+           "frame_axial_force", "axial_force", "geometric_stiffness", "geometric_load",
+           "geometric_jacobian", "geometric_table", "chord_levers",
            "chord_rotation", "chord_rotation_force", "chord_rotation_jacobian"]
 
 
@@ -140,8 +141,26 @@ def rigid_axial_force(A_O1, A_O2, omega, alpha, angle, reaction, x_star, gravity
     c, s = np.cos(angle), np.sin(angle)
     g1 = gX * c + gY * s
     g2 = -gX * s + gY * c
-    F_C2 = slider_end_force(A_O2 - g2, alpha, reaction, x_star, mass_per_length, rod_length)
-    return axial_force_terms(A_O1 - g1, omega, F_C2 * s / c, mass_per_length, rod_length)
+    return frame_axial_force((A_O1 - g1, A_O2 - g2, 0.0), (-omega * omega, alpha, 0.0), (c, -s, 0.0), reaction,
+                             x_star, mass_per_length, rod_length)
+
+
+@jitable
+def frame_axial_force(A, axis, d, reaction, x_star, mass_per_length, rod_length):
+    """``(c0, c1, c2)`` of :func:`axial_force_terms` for a rigid link whose frame moves in space (units there).
+
+    ``A`` [m/s^2] the acceleration of O less gravity, ``axis = alpha x e1 + w x (w x e1)`` [1/s^2] the
+    acceleration of the point ``x e1`` per unit ``x`` (:func:`lubelink.link.spatial.axis_acceleration`:
+    ``axis_1 = -(w2^2 + w3^2)``, the centripetal one), ``d`` [-] the slider's guide direction, all 3-tuples of
+    link-frame components; the collar's force ``reaction`` [N] along ``e2`` at ``x_star`` [m]. The slider's
+    force on C, ``(R1, R2, R3)``, has ``R2``, ``R3`` from the rigid link's moments about O in the ``e1 e2`` and
+    ``e1 e3`` planes (:func:`slider_end_force` each) and is normal to its guide, ``R . d = 0``:
+    ``R1 = -(R2 d2 + R3 d3) / d1``. The planar link is ``axis = (-omega^2, alpha, 0)``,
+    ``d = (cos angle, -sin angle, 0)``: ``R1 = R2 tan(angle)``.
+    """
+    R2 = slider_end_force(A[1], axis[1], reaction, x_star, mass_per_length, rod_length)
+    R3 = slider_end_force(A[2], axis[2], 0.0, x_star, mass_per_length, rod_length)
+    return axial_force_terms(A[0], np.sqrt(-axis[0]), -(R2 * d[1] + R3 * d[2]) / d[0], mass_per_length, rod_length)
 
 
 def axial_force(x, terms):
@@ -166,6 +185,16 @@ def geometric_load(moments, c0, c1, c2, q, F):
         for n in range(N):
             f += (c0 * moments[0, m, n] + c1 * moments[1, m, n] + c2 * moments[2, m, n]) * q[n]
         F[m] -= f
+
+
+@jitable
+def geometric_jacobian(moments, c0, c1, c2, Jq):
+    """Subtract the geometric stiffness ``K`` [N/m] of the terms ``c0, c1, c2`` from ``Jq`` (a block ``dF/dq`` of the
+    modal forces of one bending direction, the sine modes)."""
+    N = Jq.shape[0]
+    for m in range(N):
+        for n in range(N):
+            Jq[m, n] -= c0 * moments[0, m, n] + c1 * moments[1, m, n] + c2 * moments[2, m, n]
 
 
 @jitable

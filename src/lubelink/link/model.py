@@ -196,10 +196,7 @@ def _geometric_jacobian(g, t, kin, p, Jq):
     if g is None:
         return
     c0, c1, c2 = axial_terms(g, t, kin, p)
-    N = Jq.shape[0]
-    for m in range(N):
-        for n in range(N):
-            Jq[m, n] -= c0 * g.moments[0, m, n] + c1 * g.moments[1, m, n] + c2 * g.moments[2, m, n]
+    axial.geometric_jacobian(g.moments, c0, c1, c2, Jq)
 
 
 @jitable(inline=True)

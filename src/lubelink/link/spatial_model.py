@@ -20,6 +20,12 @@ the planar model.
 A motion of the user's (:class:`~lubelink.link.spatial_motion.SpatialPrescribedMotion`, sampled or
 callables) replaces the slider-crank.
 
+With ``beam.axial_force = "inertial"`` (``Params.geometric``; None: compiled out) the axial force of the rigid
+motion, the link's inertia in its spinning frame, gravity and the slider's force normal to its guide
+(:func:`spatial_axial_terms`), stiffens both bending directions alike (:func:`spatial_geometric_on`, the planar
+:mod:`lubelink.link.axial` primitives on the ``q2`` and the ``q3`` blocks); the chord's rotation under the
+slider (the planar model's :func:`lubelink.link.axial.chord_rotation`) is not modelled here (docs/model.md §1.5).
+
 A variable section (the taper keys, or ``section=``) is integrated in the three Galerkin
 eigenbases of :mod:`lubelink.link.spatial_section` (``SpatialTable.galerkin``; ``Params.galerkin`` is
 the in-plane one, which the impact and the gap's rate bound read); a uniform link keeps the
@@ -37,12 +43,14 @@ from .. import contact
 from .._jit import jitable, kernel
 from ..film import NO_FILM
 from ..params import CHOICES
-from . import section, spatial, spatial_section
+from . import axial, section, spatial, spatial_section
 from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,
                     in_sustained, phase_side, sustained_on, thinnest_on)
+from .spatial import _frame
 from .spatial_motion import SpatialMotion, collar_acceleration_at, spatial_motion_at
 
-__all__ = ["SpatialTable", "spatial_rhs", "spatial_jacobian_given", "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
+__all__ = ["SpatialTable", "spatial_axial_terms", "spatial_geometric_on", "spatial_rhs", "spatial_jacobian_given",
+           "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
 
 #: ``film.faces``'s code of the second film pair (on the ``u3`` faces).
 U2_U3 = CHOICES["film.faces"].index("u2+u3")
@@ -136,12 +144,49 @@ def _rhs_in(g, axial, kin, y, out, p):
     if p.film.faces == U2_U3:  # the u3 faces: pad width h
         _face_loads(yq[2 * N:M], yq[M + 2 * N:], x_star, V_r, p, p.beam.height, F[2 * N:])
     _compliant_spatial(p.phase, yq, x_star, V_r, p, F)
+    spatial_geometric_on(p.geometric, kin, yq, p, F)
     A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
     if g is None:
         spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out, axial)
     else:
         spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
                                             p.basis.modal_mass, out, axial)
+
+
+@jitable
+def spatial_axial_terms(g, kin, p):
+    """``(c0, c1, c2)`` of the axial force ``N(x) = c0 + c1 x + c2 x^2`` [N, N/m, N/m^2] of the spatial slider-crank's
+    rigid motion ``kin`` (:func:`~lubelink.link.axial.frame_axial_force`: the inertia of the link, gravity, and the
+    slider's force normal to its guide ``slider_dir``; ``g`` the :class:`~lubelink.link.axial.GeometricTable`)."""
+    A = effective_acceleration(kin.A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
+    d = _frame(p.spatial.motion.slider_dir, kin.e1, kin.e2, kin.e3)
+    return axial.frame_axial_force(A, spatial.axis_acceleration(kin.omega, kin.alpha), d, 0.0, 0.0,
+                                   g.mass_per_length, p.basis.rod_length)
+
+
+@jitable
+def spatial_geometric_on(g, kin, yq, p, F):
+    """Add the axial force's geometric-stiffness forces ``-K q`` [N] of both bending directions to the modal forces
+    ``F`` ``(3 N,)`` (the same ``K`` on the ``u2`` and the ``u3`` sines of the sine-mode state ``yq``; ``g`` None:
+    ``beam.axial_force = "none"``, compiles to nothing)."""
+    if g is None:
+        return
+    c0, c1, c2 = spatial_axial_terms(g, kin, p)
+    N = p.basis.modes
+    axial.geometric_load(g.moments, c0, c1, c2, yq[N:2 * N], F[N:2 * N])
+    axial.geometric_load(g.moments, c0, c1, c2, yq[2 * N:3 * N], F[2 * N:3 * N])
+
+
+@jitable
+def _spatial_geometric_jacobian(g, kin, p, Jq):
+    """Subtract the geometric stiffness ``K`` [N/m] from the ``u2`` and ``u3`` blocks of ``Jq`` ``(3 N, 3 N)`` (the
+    modal forces' ``dF/dq``; ``g`` None: nothing)."""
+    if g is None:
+        return
+    c0, c1, c2 = spatial_axial_terms(g, kin, p)
+    N = p.basis.modes
+    axial.geometric_jacobian(g.moments, c0, c1, c2, Jq[N:2 * N, N:2 * N])
+    axial.geometric_jacobian(g.moments, c0, c1, c2, Jq[2 * N:, 2 * N:])
 
 
 @jitable
@@ -168,8 +213,9 @@ def spatial_jacobian_given(kin, y, J, p):
     The uniform link outside a sustained contact, as the planar :func:`~lubelink.link.model.jacobian_given`:
     the identity block of ``dQ/dt = Q_t``; :func:`~lubelink.link.spatial.oscillator_jacobian`; the film and
     asperity contact of each pair of faces (:func:`~lubelink.link.faces.face_jacobian` on its block) and the
-    compliant contact of a contact phase on its block, divided by the modal mass (the free axial end's
-    couplings of ``p.spatial.axial`` in the frame's terms).
+    compliant contact of a contact phase on its block and the axial force's geometric stiffness on both bending
+    blocks (``beam.axial_force``), divided by the modal mass (the free axial end's couplings of ``p.spatial.axial``
+    in the frame's terms).
     """
     N = p.basis.modes
     M = 3 * N
@@ -183,6 +229,7 @@ def spatial_jacobian_given(kin, y, J, p):
         face_jacobian(y[2 * N:M], y[M + 2 * N:], x_star, V_r, p, p.beam.height, Jq[2 * N:, 2 * N:], Jv[2 * N:, 2 * N:])
     if p.contact.law == contact.COMPLIANT and phase_side(p.phase) != 0.0:
         _compliant_jacobian_spatial(p.phase, y, x_star, V_r, p, Jq, Jv)
+    _spatial_geometric_jacobian(p.geometric, kin, p, Jq)
     Jq /= p.basis.modal_mass
     Jv /= p.basis.modal_mass
     spatial.oscillator_jacobian(p.spatial.W, p.beam.damping_ratio, kin.omega, kin.alpha, Jq, Jv, p.spatial.axial)
