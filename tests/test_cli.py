@@ -307,7 +307,7 @@ def test_ctrl_c_at_any_moment_of_the_start_is_one_line_and_130(tmp_path, delay):
     _, err = p.communicate(timeout=60)
     if p.returncode == -signal.SIGINT:
         assert err == ""
-    elif p.returncode == 1 and "init_import_site" in err:
+    elif p.returncode == 1 and ("init_import_site" in err or "Could not import runpy module" in err):
         pass  # (on a loaded machine 0.05 s can fall in the interpreter's own start: its fatal error, before any lubelink)
     else:
         assert p.returncode == 130, err

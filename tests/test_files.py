@@ -173,6 +173,9 @@ NOT_PUBLISHED = {
     ("src/lubelink/sweep/store.py", "touch"): "the journal, created inside the store folder before it is published",
     ("benchmarks/exudyn_rod.py", "savez"): "a worker's answer in a private temporary folder (its interpreter has "
                                           "no lubelink)",
+    ("benchmarks/exudyn_frequency.py", "savez"): "the same, for the frequency set-ups",
+    ("src/lubelink/sweep/_warm.py", "open"): "an empty file that says the pool's server is ready (its existence "
+                                             "is the message)",
 }
 
 
