@@ -148,8 +148,9 @@ def compile_all(methods=METHODS, progress=None, processes=2):
     if not _jit.ENABLED:
         return 0.0
     todo = steps(methods)
-    other = _second_process([n for n in SECOND if n in todo]) if processes > 1 else None
-    later = [n for n in SECOND if n in todo] if other is not None else []
+    second = [n for n in SECOND if n in todo]
+    other = _second_process(second) if processes > 1 else None
+    later = second if other is not None else []
     ended = False
     for name, (message, step) in todo.items():
         if name in later:
