@@ -16,7 +16,7 @@ import re
 
 import numpy as np
 import tomli_w
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import lubelink
@@ -82,6 +82,7 @@ def one_line(problems):
 
 @settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(configurations())
+@example({"scenario": "paper-dry", "mechanism": {"crank_speed": 659.0}})  # stops out of the domain at 3 ms
 def test_fuzzed_configurations_give_results_or_named_errors(data):
     try:
         config = lubelink.resolve_config(data)
@@ -104,12 +105,14 @@ def test_fuzzed_configurations_give_results_or_named_errors(data):
             assert np.all(np.isfinite(var.values)), name
     assert ds.attrs["status"] in {"complete", "film_breakdown", "chatter", "solver_failure", "timeout", "out_of_domain"}
     assert ds.attrs["message"]
-    # every sample kept lies in the linear theory's domain, out of plane too (issue 37): the sampled deflections
+    # every sample kept lies in the linear theory's domain, out of plane too (issue 37), but the last one of a run
+    # stopped out of it, which is the first state outside (the message quotes it): the sampled deflections
     # are a lower bound of the ones checked
     limit = config.solver.max_deflection * config.mechanism.rod_length
+    inside = slice(None, -1) if ds.attrs["status"] == "out_of_domain" else slice(None)
     for u in ("u2", "u3"):
         if u in ds and ds[u].size and math.isfinite(limit):
-            assert np.max(np.abs(ds[u].values)) <= limit * (1 + 1e-12), u
+            assert np.max(np.abs(ds[u].values[inside]), initial=0.0) <= limit * (1 + 1e-12), u
 
 
 # ====================================================================== files, --set texts, sweeps
