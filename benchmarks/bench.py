@@ -19,6 +19,11 @@ Printed, in this order (``benchmarks/README.md`` records a run):
    is done), compiled first with the helper process of :mod:`lubelink._prewarm`, compiled first
    in one process; and ``lubelink compile`` (every kernel).
 
+7. **start** -- whole fresh processes, warm cache, in turn (A B C ...): ``python -c "import
+   lubelink; lubelink.simulate('paper')"`` and ``lubelink run`` beside the imports they cannot do
+   without (``numpy, scipy``; ``xarray``, which the returned Dataset needs; ``numba, scipy.linalg``,
+   which loading a compiled kernel imports; all three: the floor); wall and CPU medians.
+
 ``--compare-with PATH`` also times ``simulate()`` and the compiled right-hand side and gap per call
 (in a compiled loop) with the lubelink of another checkout (``PATH/src``): one warm process per
 checkout, asked in turn (A B A B ...), so that the shared machine's drifting speed cancels in the
@@ -49,7 +54,7 @@ from pathlib import Path
 import numpy as np
 
 CASES = [("paper", 1), ("paper", 7), ("paper-dry", 5), ("paper-dry", 7), ("paper-impact", 1)]
-SECTIONS = ("simulate", "run", "scipy", "methods", "compile", "estimate")
+SECTIONS = ("simulate", "run", "scipy", "methods", "compile", "estimate", "start")
 TIGHT = {"solver.method": "DOP853", "solver.rtol": 1e-12, "solver.atol": 1e-15}
 
 
@@ -361,6 +366,47 @@ def bench_estimate(args):
             lubelink.simulate(name)
             wall, cpu = min(wall, time.perf_counter() - w0), min(cpu, time.process_time() - c0)
         print(f"{name:<22}{estimate:>9.3g}s{wall:>9.3g}s{cpu:>9.3g}s{wall / estimate:>10.2f}{cpu / estimate:>9.2f}")
+
+
+# --- 7. a fresh process's start ------------------------------------------------------------------------
+START = [("import numpy, scipy", "import numpy, scipy"),
+         ("import xarray", "import xarray"),
+         ("one cached Numba kernel", "import kernel; kernel.f(1.0)"),
+         ("floor: kernel + xarray", "import kernel, xarray; kernel.f(1.0)"),
+         ("simulate('paper')", "import lubelink; lubelink.simulate('paper')")]
+#: The smallest compiled kernel Numba can load from its cache (``kernel.py`` in a temporary directory).
+KERNEL = "import numba\n\n\n@numba.njit(cache=True)\ndef f(x):\n    return x + 1.0\n"
+
+
+def process_times(argv, cwd=None):
+    """``(wall, cpu)`` [s] of one process ``argv`` (CPU: user + system of the child)."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    subprocess.run(argv, check=True, capture_output=True, cwd=cwd)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def bench_start(args):
+    print("\n7. a fresh process, warm cache (in turn; median of", args.repeats, "rounds; wall and CPU)")
+    with tempfile.TemporaryDirectory() as tmp:
+        Path(tmp, "kernel.py").write_text(KERNEL)
+        cases = [(name, [sys.executable, "-c", code]) for name, code in START]
+        cases.append(("lubelink run -o FILE", [sys.executable, "-m", "lubelink", "run", "-o", f"{tmp}/out.nc",
+                                              "--overwrite"]))
+        for _, argv in cases:  # once each first: the kernel cached, the byte code in the page cache
+            process_times(argv, cwd=tmp)
+        times = {name: [] for name, _ in cases}
+        for _ in range(args.repeats):
+            for name, argv in cases:
+                times[name].append(process_times(argv, cwd=tmp))
+    for name, _ in cases:
+        wall = statistics.median(w for w, _ in times[name])
+        cpu = statistics.median(c for _, c in times[name])
+        print(f"   {name:28s} wall {ms(wall):>9s}  cpu {ms(cpu):>9s}")
 
 
 def timed_once(fn):
