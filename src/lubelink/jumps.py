@@ -13,8 +13,8 @@ For the uniform planar link they are written out (:func:`restitution_jacobian`, 
 -side s`` by the envelope theorem, at an interior minimum and at a pad edge alike); for the
 spatial link and a variable section they are central differences of the model's own impact and
 gap (:func:`restitution_terms_by_differences`), which the test of the closed forms also uses as
-their reference. :func:`unsupported` says which periods have events that a saltation matrix does
-not describe (a compliant contact, whose force depends on its start; a sustained contact).
+their reference. Contact phases (compliant, sustained) are :mod:`lubelink.phases`'s, from the pieces
+here; :func:`unsupported` says which periods have events that no saltation matrix here describes.
 """
 
 from __future__ import annotations
