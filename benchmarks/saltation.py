@@ -1,8 +1,9 @@
 """The monodromy through impacts: saltation matrices against differences of the period map.
 
 The impacting orbit of tests/test_periodic.py (``paper-impact`` with the film off, ``zeta = 0.05``,
-``e = 0.7``, 3 impacts a period) with 1 and 2 modes, timed warm in turn (median and minimum of
-``--repeats``):
+``e = 0.7``, 3 impacts a period) with 1 and 2 modes, and the same with ``contact.law = "compliant"``
+(3 compliant contacts a period, 1 mode: each contact's start carries the approach velocity as a
+parameter, lubelink.phases), timed warm in turn (median and minimum of ``--repeats``):
 
 1. ``lubelink.periodic(config)`` with ``jacobian="auto"`` (the variational equations between
    impacts and a saltation matrix at each) and with ``"finite-difference"``;
@@ -47,13 +48,13 @@ def main():
     from lubelink.config import resolve
     from lubelink.steady import find_periodic
 
-    for modes in (1, 2):
-        config = resolve("paper-impact", {**IMPACT, "beam.modes": modes})
+    for modes, law in ((1, "restitution"), (2, "restitution"), (1, "compliant")):
+        config = resolve("paper-impact", {**IMPACT, "beam.modes": modes, "contact.law": law})
         auto = find_periodic(config)  # warm-up (compiles)
         fd = find_periodic(config, jacobian="finite-difference")
         pmap = auto.period_map
         impacts = len(pmap.run(auto.y0).impacts)
-        print(f"paper-impact, {modes} mode(s), {impacts} impacts a period, T = {auto.period:.6g} s "
+        print(f"paper-impact, {law}, {modes} mode(s), {impacts} impacts a period, T = {auto.period:.6g} s "
               f"({auto.jacobian} against {fd.jacobian})")
         times = {}
         for name, jac in (("saltation", "auto"), ("differences", "finite-difference")):
@@ -75,7 +76,7 @@ def main():
         print(f"  multipliers (saltation): {np.array2string(np.abs(mu_s), precision=9)}")
         print(f"  |mu_saltation - mu_differences| max {np.max(np.abs(mu_s - mu_d)):.2e} (differences' estimate "
               f"{estimate:.2e}, {count} runs; saltation's estimate {np.max(auto.multiplier_errors):.2e})")
-        if modes == 1:
+        if modes == 1 and law == "restitution":
             e, zeta, w1 = IMPACT["contact.restitution"], IMPACT["beam.damping_ratio"], pmap.model.omega_n[0]
             exact = math.exp(-2 * zeta * w1 * auto.period) * e ** (2 * impacts)
             for name, mu in (("saltation", mu_s), ("differences", mu_d)):

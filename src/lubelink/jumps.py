@@ -13,8 +13,8 @@ For the uniform planar link they are written out (:func:`restitution_jacobian`, 
 -side s`` by the envelope theorem, at an interior minimum and at a pad edge alike); for the
 spatial link and a variable section they are central differences of the model's own impact and
 gap (:func:`restitution_terms_by_differences`), which the test of the closed forms also uses as
-their reference. :func:`unsupported` says which periods have events that a saltation matrix does
-not describe (a compliant contact, whose force depends on its start; a sustained contact).
+their reference. Contact phases (compliant, sustained) are :mod:`lubelink.phases`'s, from the pieces
+here; :func:`unsupported` says which periods have events that no saltation matrix here describes.
 """
 
 from __future__ import annotations
@@ -26,8 +26,9 @@ import numpy as np
 from .beam import wavenumbers
 from .link.kinematics import collar_acceleration
 
-__all__ = ["EventTerms", "restitution_jacobian", "restitution_terms", "restitution_terms_by_differences",
-           "unsupported", "REL_STEP"]
+__all__ = ["EventTerms", "approach_jacobian", "restitution_jacobian", "restitution_terms",
+           "restitution_terms_by_differences", "fields", "event_rate", "collar_acceleration_at", "unsupported",
+           "REL_STEP"]
 
 #: Relative step of the central differences (of the state's scale; of the time scale ``T / 2 pi``).
 REL_STEP = 1e-6
@@ -49,13 +50,53 @@ class EventTerms(NamedTuple):
     f_plus: np.ndarray
 
 
+def approach_jacobian(q, q_dot, x_c, at_edge, side, V_r, A_r, rod_length):
+    """The approach velocity ``v`` at the thinnest film ``x_c`` of the uniform planar link and the derivatives
+    of ``v`` and ``x_c`` with respect to the state and to time.
+
+    ``v = side (s . q_dot + V_c u2'(x_c))`` with ``s_n = sin(beta_n x_c)`` (``V_c = V_r`` at a pad edge,
+    else 0; :func:`lubelink.contact.approach_velocity`). Inside the pad ``x_c`` is the film's extremum,
+    ``u2'(x_c) = 0``, so it moves with ``q`` (``dx_c/dq_n = -beta_n cos(beta_n x_c) / u2''``) and not
+    with time; at a pad edge it moves with the collar (``dx_c/dt = V_r``) and not with ``q``.
+
+    Parameters are those of :func:`restitution_jacobian` (without ``restitution``).
+
+    Returns
+    -------
+    v : float
+        [m/s].
+    dv_dq, dv_dqd : ndarray, shape ``(N,)``
+        [1/s], [-].
+    dv_dt : float
+        At fixed state [m/s^2].
+    dx_dq : ndarray, shape ``(N,)``
+        ``d x_c / d q`` [-].
+    dx_dt : float
+        ``d x_c / dt`` at fixed state [m/s].
+    """
+    beta = wavenumbers(q.shape[0], rod_length)
+    s, bc = np.sin(beta * x_c), beta * np.cos(beta * x_c)
+    d1, d2 = float(bc @ q), float(-(beta * beta * s) @ q)  # u2', u2'' at x_c
+    ut1 = float(bc @ q_dot)  # u2_t'
+    V_c = V_r if at_edge else 0.0
+    v = side * (float(s @ q_dot) + V_c * d1)
+    if at_edge:
+        dx_dq, dx_dt = np.zeros(q.shape[0]), V_r
+        dv_dq = side * V_r * bc
+        dv_dt = side * (ut1 * V_r + d2 * V_r * V_r + d1 * A_r)
+    else:
+        dx_dq, dx_dt = -bc / d2, 0.0
+        dv_dq = side * ut1 * dx_dq
+        dv_dt = 0.0
+    return v, dv_dq, side * s, dv_dt, dx_dq, dx_dt
+
+
 def restitution_jacobian(q, q_dot, x_c, at_edge, side, V_r, A_r, restitution, rod_length):
     """``(dqd_dq, dqd_dqd, dqd_dt)``: derivatives of the velocities after an impact of the uniform planar link.
 
-    ``q_dot+ = q_dot - side (1 + e) v w`` (module docstring) at the thinnest point ``x_c`` [m].
-    Inside the pad ``x_c`` is the film's extremum, ``u2'(x_c) = 0``, so it moves with ``q``
-    (``dx_c/dq_n = -beta_n cos(beta_n x_c) / u2''``) and not with time; at a pad edge it moves with
-    the collar (``dx_c/dt = V_r``) and not with ``q``, and ``v`` holds the slope term ``V_r u2'``.
+    ``q_dot+ = q_dot - side (1 + e) v w`` (module docstring) at the thinnest point ``x_c`` [m], with
+    ``v`` and ``x_c`` moving with the state and time as :func:`approach_jacobian` says
+    (``w = s / (s . s)`` moves with ``x_c``).
 
     Parameters
     ----------
@@ -88,65 +129,62 @@ def restitution_jacobian(q, q_dot, x_c, at_edge, side, V_r, A_r, restitution, ro
     S2 = float(s @ s)
     w = s / S2
     w_x = bc / S2 - 2.0 * s * float(s @ bc) / S2**2  # dw/dx_c
-    d1, d2 = float(bc @ q), float(-(beta * beta * s) @ q)  # u2', u2'' at x_c
-    ut1 = float(bc @ q_dot)  # u2_t'
+    v, dv_dq, _, dv_dt, dx_dq, dx_dt = approach_jacobian(q, q_dot, x_c, at_edge, side, V_r, A_r, rod_length)
     k = side * (1.0 + restitution)
-    V_c = V_r if at_edge else 0.0
-    v = side * (float(s @ q_dot) + V_c * d1)
     dqd_dqd = np.eye(q.shape[0]) - (1.0 + restitution) * np.outer(w, s)
-    if at_edge:
-        dv_dq = side * V_r * bc
-        dqd_dq = -k * np.outer(w, dv_dq)
-        dv_dt = side * (ut1 * V_r + d2 * V_r * V_r + d1 * A_r)
-        dqd_dt = -k * (w * dv_dt + v * w_x * V_r)
-    else:
-        dx_dq = -bc / d2
-        dqd_dq = -k * (np.outer(w, side * ut1 * dx_dq) + v * np.outer(w_x, dx_dq))
-        dqd_dt = np.zeros(q.shape[0])
+    dqd_dq = -k * (np.outer(w, dv_dq) + v * np.outer(w_x, dx_dq))
+    dqd_dt = -k * (w * dv_dt + v * w_x * dx_dt)
     return dqd_dq, dqd_dqd, dqd_dt
 
 
-def _fields(model, t, y_minus, y_plus):
-    """The vector fields ``(f_-, f_+)`` at the states around a free-flight impact (sine-mode states)."""
-    def f(y):
-        return model.to_physical(model.rhs(t, model.to_state(np.asarray(y, dtype=float))))
+def fields(model, t, y_minus, y_plus, phase=None):
+    """The vector fields ``(f_-, f_+)`` at the states around an event (sine-mode states): free flight before,
+    the contact ``phase`` (:meth:`~lubelink.assembly.Model.with_phase`; None: free flight) after."""
+    def f(y, ph):
+        return model.to_physical(model.rhs(t, model.to_state(np.asarray(y, dtype=float)), ph))
 
-    return f(y_minus), f(y_plus)
+    return f(y_minus, None), f(y_plus, phase)
 
 
-def _rate(model, t, y):
-    """The event function's rate along the flow at ``(t, y)`` [m/s] (sine-mode state)."""
+def event_rate(model, t, y):
+    """The gap's rate along the flow at ``(t, y)`` [m/s] (sine-mode state, free flight)."""
     event = model.functions()[1]
     return float(event(float(t), np.ascontiguousarray(model.to_state(np.asarray(y, dtype=float))), model.params)[1])
 
 
-def restitution_terms(model, t, y_minus, y_plus, scale, time_scale):
+def collar_acceleration_at(model, t):
+    """The collar's acceleration relative to the link at ``t`` [m/s^2]."""
+    if model.motion.table() is not None:
+        return float(collar_acceleration(t, model.params.motion))
+    return float(model.motion.collar_acceleration(t))
+
+
+def restitution_terms(model, t, y_minus, y_plus, scale, time_scale, restitution=None, phase=None):
     """The :class:`EventTerms` of the restitution impact at ``(t, y_minus)`` [s, sine-mode state] giving ``y_plus``.
 
     Written out for the uniform planar link (:func:`restitution_jacobian`); else
     :func:`restitution_terms_by_differences` with steps :data:`REL_STEP` of ``scale`` (the state's
-    sizes) and of ``time_scale`` [s].
+    sizes) and of ``time_scale`` [s]. ``restitution`` replaces ``contact.restitution`` (0: the plastic
+    impact that starts a sustained contact); ``phase`` is the contact phase after it (None: free flight).
     """
+    e = model.config.contact.restitution if restitution is None else restitution
     if not (model.uniform and model.config.beam.model == "planar"):
-        return restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale)
+        return restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale, e, phase)
     y_minus = np.asarray(y_minus, dtype=float)
     N = model.modes
     _, x_c, edge, side = model.thinnest_film(t, y_minus)
-    A_r = 0.0
-    if edge:
-        A_r = (collar_acceleration(t, model.params.motion) if model.motion.table() is not None
-               else model.motion.collar_acceleration(t))
+    A_r = collar_acceleration_at(model, t) if edge else 0.0
     dq, dv, dt = restitution_jacobian(y_minus[:N], y_minus[N:], x_c, edge, side, model.kinematics(t).V_r, A_r,
-                                      model.config.contact.restitution, model.config.mechanism.rod_length)
+                                      e, model.config.mechanism.rod_length)
     DR = np.eye(2 * N)
     DR[N:, :N], DR[N:, N:] = dq, dv
     gradient = np.zeros(2 * N)
     gradient[:N] = -side * np.sin(wavenumbers(N, model.config.mechanism.rod_length) * x_c)
-    f_minus, f_plus = _fields(model, t, y_minus, y_plus)
-    return EventTerms(DR, np.concatenate([np.zeros(N), dt]), gradient, _rate(model, t, y_minus), f_minus, f_plus)
+    f_minus, f_plus = fields(model, t, y_minus, y_plus, phase)
+    return EventTerms(DR, np.concatenate([np.zeros(N), dt]), gradient, event_rate(model, t, y_minus), f_minus, f_plus)
 
 
-def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale):
+def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale, restitution=None, phase=None):
     """:class:`EventTerms` with ``DR``, ``dR/dt`` and ``grad g`` by central differences of the model's
     :meth:`~lubelink.assembly.Model.impact` and gap (any model: planar or spatial, any section)."""
     y_minus = np.asarray(y_minus, dtype=float)
@@ -155,7 +193,7 @@ def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scal
     tau = REL_STEP * time_scale
 
     def reset(t_, y):
-        return model.impact(t_, y)[0]
+        return model.impact(t_, y, restitution=restitution)[0]
 
     def gap(y):
         return model.gap(t, model.to_state(y))
@@ -168,27 +206,31 @@ def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scal
         DR[:, j] = (reset(t, y_minus + e) - reset(t, y_minus - e)) / (2.0 * steps[j])
         gradient[j] = (gap(y_minus + e) - gap(y_minus - e)) / (2.0 * steps[j])
     reset_rate = (reset(t + tau, y_minus) - reset(t - tau, y_minus)) / (2.0 * tau)
-    f_minus, f_plus = _fields(model, t, y_minus, y_plus)
-    return EventTerms(DR, reset_rate, gradient, _rate(model, t, y_minus), f_minus, f_plus)
+    f_minus, f_plus = fields(model, t, y_minus, y_plus, phase)
+    return EventTerms(DR, reset_rate, gradient, event_rate(model, t, y_minus), f_minus, f_plus)
 
 
 def unsupported(model, run) -> str:
     """Why the events of ``run`` (a :class:`~lubelink.results.Run`) have no saltation matrices here; ``""`` if they do.
 
-    Supported: restitution impacts in free flight (each with a jump). Not: the compliant
-    contact (its force depends on the approach velocity at its start, a parameter of the contact
-    phase that the state does not carry), a sustained contact (its constraint holds a point chosen
-    at its start, and its end is an event of its force).
+    Supported (:func:`lubelink.phases.period_events`): restitution impacts in free flight (each with a
+    jump); the compliant contact's start and end (at a point or over the pad; planar link); the
+    sustained contact's plastic start and its end (planar link). Not: an impact without a jump (a
+    graze of the restitution law), a contact phase of the spatial link, a contact phase still on at
+    the end of the period. A graze of any event is found later, by
+    :func:`lubelink.steady.saltation.saltation_matrix`.
     """
     law = model.config.contact.law
-    if law == "compliant":
-        return ("a compliant contact in the period: its force depends on the approach velocity at its start, "
-                "which a saltation matrix does not carry")
-    if law != "restitution":
+    if law not in ("restitution", "compliant"):
         return f"contact.law = {law!r} has no impacts"
-    if run.contacts:
-        return "a sustained contact in the period (the restitution law's Zeno limit)"
-    for impact in run.impacts:
-        if not impact.v_minus > 0.0:
-            return f"an event without a jump at t = {impact.t:.9g} s (approach velocity {impact.v_minus:.3g} m/s)"
+    if run.contacts and model.config.beam.model != "planar":
+        return "a contact phase of the spatial link (its phase parameters are not carried yet)"
+    for start, end, _ in run.contacts:
+        if not np.isfinite(end):
+            return f"a contact phase from t = {start:.9g} s still on at the end of the period"
+    if law == "restitution":
+        for impact in run.impacts:
+            if not impact.v_minus > 0.0:
+                return (f"an event without a jump at t = {impact.t:.9g} s (approach velocity "
+                        f"{impact.v_minus:.3g} m/s)")
     return ""
