@@ -129,7 +129,7 @@ def slider_torque(phi, phi_dot, m: Mechanism, drive: Drive):
 
 
 def gravity_torque(phi, m: Mechanism, masses: RigidMasses):
-    """Generalised force of gravity on the crank angle ``phi`` [rad] [N m]: on the link, the slider and the collar.
+    """Generalised force of gravity [N m] on the crank angle ``phi`` [rad]: on the link, the slider and the collar.
 
     The crank and flywheel are taken balanced (their centre of mass on the crank axis).
     """
