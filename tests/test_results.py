@@ -72,7 +72,8 @@ def test_units_of_the_registry_are_dimensionally_right():
     from lubelink.results import VARIABLES
 
     kinds = {"m": "metre", "m s-1": "metre/second", "Pa": "kg m-1 s-2", "N": "kg m s-2", "s": "second",
-             "rad s-1": "1/second", "1": "1", "J": "kg m2 s-2", "W": "kg m2 s-3", "rad": "1"}
+             "rad s-1": "1/second", "1": "1", "J": "kg m2 s-2", "W": "kg m2 s-3", "rad": "1",
+             "N m": "kg m2 s-2"}
     for name, v in VARIABLES.items():
         assert v.units in kinds, (name, v.units)
         assert cf_units.Unit(v.units).is_convertible(cf_units.Unit(kinds[v.units])), name

@@ -23,7 +23,8 @@ def build_model(config: Config, motion=None, section=None) -> Model:
         Validated parameters.
     motion : object, optional
         A motion provider (see :mod:`lubelink.link.kinematics`); default: the slider-crank of
-        ``config.mechanism``.
+        ``config.mechanism`` at its constant speed, or driven (:func:`lubelink.link.drive.driven_motion`)
+        where ``drive.law`` is not ``"speed"``.
     section : lubelink.link.section.Section, optional
         ``A(x)``, ``I(x)`` replacing the beam's (uniform or ``beam.width_ratio``/``height_ratio``
         tapered) section.
@@ -37,7 +38,16 @@ def build_model(config: Config, motion=None, section=None) -> Model:
         from .spatial_assembly import build_spatial_model
 
         return build_spatial_model(config, motion, section)
-    if motion is None:
+    if motion is not None and not config.drive.prescribed:
+        from .validation import ConfigError
+
+        raise ConfigError([f"drive.law = {config.drive.law!r}: a driven crank makes its own motion; pass no motion, "
+                           "or use drive.law = 'speed'"])
+    if motion is None and not config.drive.prescribed:
+        from .link.drive import driven_motion
+
+        motion = driven_motion(config, section)
+    elif motion is None:
         motion = SliderCrank(config.mechanism)
     else:
         from .link.spatial_motion import SpatialPrescribedMotion, SpatialSliderCrank

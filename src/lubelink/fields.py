@@ -89,4 +89,15 @@ FIELDS = {
     "solver.max_axial_strain": ("1", "", "largest mean stretching strain 1/(2L) int u2'^2 dx (inf: not checked)"),
     "output.x_points": ("1", "", "samples of u2 along the link"),
     "output.pad_points": ("1", "", "samples of the film pressure along the pad"),
+    "drive.law": ("", "", "speed: constant mechanism.crank_speed (paper); torque, torque-speed, controller: a motor "
+                          "through a flywheel, the speed from the rigid mechanism (docs/model.md section 3.7)"),
+    "drive.flywheel_inertia": ("kg m2", "J_f", "crank and flywheel about the crank axis"),
+    "drive.torque": ("N m", "T", "constant motor torque (law torque); the controller's feed-forward"),
+    "drive.stall_torque": ("N m", "T_s", "torque at rest of the torque-speed line"),
+    "drive.no_load_speed": ("rad s-1", "omega_nl", "speed at zero torque of the torque-speed line"),
+    "drive.proportional_gain": ("N m s rad-1", "K_p", "PI controller's proportional gain (set speed: crank_speed)"),
+    "drive.integral_gain": ("N m rad-1", "K_i", "PI controller's integral gain"),
+    "drive.slider_mass": ("kg", "m_s", "mass of the slider C"),
+    "drive.slider_force": ("N", "F_s", "constant external force on the slider along +X"),
+    "drive.slider_friction": ("N", "F_f", "Coulomb friction on the slider, against its velocity"),
 }

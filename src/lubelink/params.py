@@ -25,6 +25,7 @@ __all__ = [
     "Contact",
     "Solver",
     "Output",
+    "Drive",
     "ModelOptions",
     "Config",
     "CHOICES",
@@ -47,6 +48,7 @@ CHOICES = {
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
     "solver.method": ("auto", "exponential", "exponential-adams", "rodas", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
     "solver.backend": ("auto", "numba", "numpy"),
+    "drive.law": ("speed", "torque", "torque-speed", "controller"),
 }
 
 
@@ -397,6 +399,61 @@ class Output:
 
 
 @dataclass(frozen=True)
+class Drive:
+    """How the crank is driven (docs/model.md, "Driven crank").
+
+    ``"speed"`` prescribes the constant crank speed ``mechanism.crank_speed`` (the paper's, the
+    default). The other laws drive the crank and its flywheel with a motor torque, and the crank
+    speed follows from the rigid slider-crank's dynamics (:mod:`lubelink.link.drive`), starting at
+    ``phi = 0`` with the speed ``mechanism.crank_speed``. The link's elastic forces do not act back on
+    the crank yet (one-way coupling).
+
+    Attributes
+    ----------
+    law : str
+        ``"speed"`` (prescribed constant speed), ``"torque"`` (constant motor torque ``torque``),
+        ``"torque-speed"`` (``stall_torque (1 - phi_dot / no_load_speed)``) or ``"controller"`` (a PI
+        speed controller holding ``mechanism.crank_speed``: ``torque + proportional_gain e +
+        integral_gain int e dt``, ``e = omega0 - phi_dot``).
+    flywheel_inertia : float
+        Moment of inertia of the crank and flywheel about the crank axis [kg m^2] (``J_f``).
+    torque : float
+        Constant motor torque, about +k [N m] (``T``); the controller's feed-forward torque.
+    stall_torque : float
+        Torque of the torque-speed line at rest [N m] (``T_s``).
+    no_load_speed : float
+        Speed of the torque-speed line at zero torque [rad/s] (``omega_nl``), of the sign of ``mechanism.crank_speed``.
+    proportional_gain : float
+        Controller's proportional gain [N m s/rad] (``K_p``).
+    integral_gain : float
+        Controller's integral gain [N m/rad] (``K_i``).
+    slider_mass : float
+        Mass of the slider C [kg] (``m_s``).
+    slider_force : float
+        Constant external force on the slider along +X [N] (``F_s``; a gas force pushing the slider
+        away from the crank is positive).
+    slider_friction : float
+        Coulomb friction force on the slider, opposing its velocity [N] (``F_f >= 0``).
+    """
+
+    law: str = "speed"
+    flywheel_inertia: float = 0.1
+    torque: float = 0.0
+    stall_torque: float = 10.0
+    no_load_speed: float = 20.0 * math.pi
+    proportional_gain: float = 1.0
+    integral_gain: float = 10.0
+    slider_mass: float = 0.0
+    slider_force: float = 0.0
+    slider_friction: float = 0.0
+
+    @property
+    def prescribed(self) -> bool:
+        """Whether the crank speed is prescribed (``law = "speed"``)."""
+        return self.law == "speed"
+
+
+@dataclass(frozen=True)
 class Config:
     """A complete, validated simulation configuration."""
 
@@ -408,6 +465,7 @@ class Config:
     model: ModelOptions = field(default_factory=ModelOptions)
     solver: Solver = field(default_factory=Solver)
     output: Output = field(default_factory=Output)
+    drive: Drive = field(default_factory=Drive)
 
     def replace(self, **sections) -> "Config":
         """Return a copy with whole sections replaced."""
@@ -423,6 +481,7 @@ SECTION_TYPES: dict[str, type] = {
     "model": ModelOptions,
     "solver": Solver,
     "output": Output,
+    "drive": Drive,
 }
 
 

@@ -311,6 +311,12 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
                                                       thinnest).items():
             if name in want:
                 data[name] = _entry(name, value)
+    crank = getattr(model.motion, "crank", None)  # a driven crank (lubelink.link.drive): its integrated motion
+    if crank is not None:
+        phi, phi_dot, _, torque = crank(t)
+        coords["crank_angle"] = _entry("crank_angle", phi)
+        data["crank_speed"] = _entry("crank_speed", phi_dot)
+        data["motor_torque"] = _entry("motor_torque", torque)
     period = derived.crank_period(model)
     if period is not None:
         coords["crank_angle"] = _entry("crank_angle", cfg.mechanism.crank_speed * t)

@@ -32,6 +32,12 @@ def summary(r, source, path, wall):
         ("simulated", f"0 - {float(t[-1]):.4g} s, {r['mode'].size} mode(s), {t.size} samples"),
         ("peak |u2_mid|", f"{1e3 * u[i]:.4f} mm at t = {float(t[i]):.4f} s"),
     ]
+    if "crank_speed" in r and np.size(r["crank_speed"]):  # a driven crank (drive.law other than "speed")
+        w = np.asarray(r["crank_speed"])
+        mean = float(np.mean(w))
+        rows.append(("crank speed", f"{mean:.6g} rad/s on average, {float(w.min()):.6g} - {float(w.max()):.6g} rad/s "
+                                    f"(fluctuation {float(w.max() - w.min()) / abs(mean):.3g}), motor torque "
+                                    f"{float(np.mean(r['motor_torque'])):.4g} N m on average"))
     if "u3_mid" in r and r["u3_mid"].size:  # the spatial link: the out-of-plane peak too
         u3 = np.abs(np.asarray(r["u3_mid"]))
         j = int(np.argmax(u3))

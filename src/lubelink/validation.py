@@ -138,6 +138,18 @@ RULES = {
         "x_points": _num(2, 10001, integer=True),
         "pad_points": _num(2, 1001, integer=True),
     },
+    "drive": {
+        "law": _choice(CHOICES["drive.law"]),
+        "flywheel_inertia": _num(0, 1e6, lo_open=True),
+        "torque": _num(-1e7, 1e7),
+        "stall_torque": _num(-1e7, 1e7),
+        "no_load_speed": _num(-1e4, 1e4),
+        "proportional_gain": _num(0, 1e7),
+        "integral_gain": _num(0, 1e9),
+        "slider_mass": _num(0, 1e6),
+        "slider_force": _num(-1e9, 1e9),
+        "slider_friction": _num(0, 1e9),
+    },
 }
 
 MAX_SAMPLES = 50_000_000  # time samples x points of u2, ~400 MB of float64
@@ -256,9 +268,31 @@ def validate(config: Config) -> Config:
         problems.append(f"solver.output_step = {s.output_step}: with solver.t_end = {s.t_end} and "
                         f"output.x_points = {o.x_points} the results would hold more than {MAX_SAMPLES:.0e} "
                         "values; use a larger output_step")
+    problems += _drive_problems(config)
     if problems:
         raise ConfigError(problems)
     return config
+
+
+def _drive_problems(config):
+    """What a driven crank (``drive.law`` other than ``"speed"``) does not support yet, one message each."""
+    d, out = config.drive, []
+    if d.prescribed:
+        return out
+    law = f"drive.law = {_fmt(d.law)}"
+    if config.beam.model == "spatial":
+        out.append(f"{law}: a driven crank is not supported with beam.model = 'spatial' yet; use drive.law = "
+                   "'speed' or beam.model = 'planar'")
+    if config.beam.axial_force != "none":
+        out.append(f"{law}: the axial force needs the prescribed crank speed yet; use drive.law = 'speed' or "
+                   "beam.axial_force = 'none'")
+    if config.model.equations != "corrected":
+        out.append(f"{law}: the paper's printed equations ({_fmt(config.model.equations)}) need the prescribed "
+                   "crank speed; use model.equations = 'corrected'")
+    if d.law == "torque-speed" and (d.no_load_speed == 0.0 or d.no_load_speed * config.mechanism.crank_speed < 0.0):
+        out.append(f"drive.no_load_speed = {d.no_load_speed}: must be non-zero and of the sign of "
+                   f"mechanism.crank_speed = {config.mechanism.crank_speed} with drive.law = 'torque-speed'")
+    return out
 
 
 def _spatial_problems(config):

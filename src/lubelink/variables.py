@@ -23,7 +23,8 @@ class Variable(NamedTuple):
 #: Every variable and coordinate of a results Dataset.
 VARIABLES = {
     "time": Variable(("time",), "s", "time"),
-    "crank_angle": Variable(("time",), "rad", "crank angle phi = omega0 t (slider-crank)"),
+    "crank_angle": Variable(("time",), "rad", "crank angle phi (slider-crank: omega0 t, or integrated where the crank is "
+                                              "driven)"),
     "revolution": Variable(("revolution",), "1", "whole revolution of the crank: the k-th spans [(k - 1) T, k T)"),
     "x": Variable(("x",), "m", "position along the link from the crank pin O"),
     "mode": Variable(("mode",), "1", "mode number"),
@@ -40,6 +41,8 @@ VARIABLES = {
     "u3_mid": Variable(("time",), "m", "midpoint out-of-plane deflection (spatial model)"),
     "bending_stress": Variable(("time", "x"), "Pa", "largest bending stress in the section (spatial: at a corner)"),
     "x_star": Variable(("time",), "m", "collar position along the link"),
+    "crank_speed": Variable(("time",), "rad s-1", "crank angular speed phi_dot (driven crank)"),
+    "motor_torque": Variable(("time",), "N m", "motor torque on the crank (driven crank)"),
     "V_r": Variable(("time",), "m s-1", "collar velocity relative to the link"),
     "omega_n": Variable(("mode",), "rad s-1", "natural circular frequency"),
     "omega_spatial": Variable(("direction", "mode"), "rad s-1", "natural circular frequencies of the axial, "

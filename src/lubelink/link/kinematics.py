@@ -30,6 +30,7 @@ __all__ = [
     "MotionTable",
     "SLIDER_CRANK",
     "SAMPLED",
+    "crank_state",
     "slider_crank_state",
     "slider_crank",
     "motion_at",
@@ -106,14 +107,61 @@ class MotionTable(NamedTuple):
 
 
 @jitable
+def crank_state(phi, phi_dot, phi_ddot, crank_length, rod_length, guide_distance):
+    """Kinematics of the Section 6 slider-crank and its collar at any crank motion (docs/model.md section 3).
+
+    The crank turns anticlockwise about the fixed pivot at the origin through the angle ``phi``;
+    O is the crank pin, the slider C runs on the +X axis, ``i`` points from O to C and the collar
+    sits on the link under a vertical guide at ``X = a``. With ``phi_ddot = 0`` these are the paper's
+    Section 6 formulas; the terms in ``phi_ddot`` (written last in each sum) are those of a crank
+    that speeds up or slows down (docs/model.md, "Driven crank"). Works on a float (compiled) and
+    elementwise on arrays (NumPy).
+
+    Parameters
+    ----------
+    phi, phi_dot, phi_ddot : float or ndarray
+        Crank angle [rad], speed [rad/s] and angular acceleration [rad/s^2].
+    crank_length, rod_length, guide_distance : float
+        ``OA`` [m], ``L`` [m], ``a`` [m].
+
+    Returns
+    -------
+    tuple
+        ``(theta [rad], v_O1 [m/s], A_O1 [m/s^2], A_O2 [m/s^2], omega [rad/s], alpha [rad/s^2],
+        x_star [m], V_r [m/s], A_r [m/s^2], Y_ddot [m/s^2], cos_theta [-])``: ``-theta`` is the link
+        angle, ``A_O1``, ``A_O2`` the crank pin's acceleration along ``i`` and ``j``, ``A_r = dV_r/dt``
+        and ``Y_ddot`` the vertical acceleration of the collar.
+    """
+    OA, w0, a, e = crank_length, phi_dot, guide_distance, phi_ddot
+    lam = OA / rod_length
+    sphi = np.sin(phi)
+    cphi = np.cos(phi)
+    s_th = lam * sphi
+    c_th = np.sqrt(1.0 - s_th * s_th)
+    s_sum = sphi * c_th + cphi * s_th  # sin(phi + theta)
+    c_sum = cphi * c_th - sphi * s_th  # cos(phi + theta)
+    v_O1 = -OA * w0 * s_sum
+    A_O1 = -OA * w0 * w0 * c_sum - OA * e * s_sum
+    A_O2 = -OA * w0 * w0 * s_sum + OA * e * c_sum
+    omega = -lam * w0 * cphi / c_th
+    alpha = lam * w0 * w0 * sphi / c_th - lam**3 * w0 * w0 * cphi * cphi * sphi / c_th**3 - lam * e * cphi / c_th
+    theta_dot = -omega
+    theta_ddot = -alpha
+    x_star = (a - OA * cphi) / c_th
+    V_r = (OA * w0 * sphi * c_th + (a - OA * cphi) * s_th * theta_dot) / (c_th * c_th)
+    A_r = (OA * w0 * w0 * cphi + 2.0 * V_r * s_th * theta_dot
+           + x_star * (c_th * theta_dot * theta_dot + s_th * theta_ddot) + OA * e * sphi) / c_th
+    lever = OA - lam * x_star  # Y = sin(phi) * lever
+    Y_ddot = -w0 * w0 * sphi * lever - 2.0 * lam * w0 * cphi * V_r - lam * sphi * A_r + e * cphi * lever
+    return np.arcsin(s_th), v_O1, A_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th
+
+
+@jitable
 def slider_crank_state(t, crank_length, rod_length, crank_speed, guide_distance):
     """Kinematics of the Section 6 slider-crank and its collar (docs/model.md section 3).
 
-    The crank turns anticlockwise about the fixed pivot at the origin with ``phi = omega0 t``;
-    O is the crank pin, the slider C runs on the +X axis, ``i`` points from O to C and the collar
-    sits on the link under a vertical guide at ``X = a``. ``v_O1``, ``A_O2``, ``omega`` and
-    ``alpha`` are the paper's Section 6 formulas; ``x_star`` and ``V_r`` follow from the guide.
-    Works on a float (compiled) and elementwise on arrays (NumPy).
+    :func:`crank_state` of the crank turning at the constant speed ``omega0``, ``phi = omega0 t``
+    (the paper's formulas). Works on a float (compiled) and elementwise on arrays (NumPy).
 
     Parameters
     ----------
@@ -129,27 +177,9 @@ def slider_crank_state(t, crank_length, rod_length, crank_speed, guide_distance)
         V_r [m/s], A_r [m/s^2], Y_ddot [m/s^2], cos_theta [-])``: ``-theta`` is the link angle,
         ``A_r = dV_r/dt`` and ``Y_ddot`` the vertical acceleration of the collar.
     """
-    OA, w0, a = crank_length, crank_speed, guide_distance
-    lam = OA / rod_length
-    phi = w0 * t
-    sphi = np.sin(phi)
-    cphi = np.cos(phi)
-    s_th = lam * sphi
-    c_th = np.sqrt(1.0 - s_th * s_th)
-    s_sum = sphi * c_th + cphi * s_th  # sin(phi + theta)
-    v_O1 = -OA * w0 * s_sum
-    A_O2 = -OA * w0 * w0 * s_sum
-    omega = -lam * w0 * cphi / c_th
-    alpha = lam * w0 * w0 * sphi / c_th - lam**3 * w0 * w0 * cphi * cphi * sphi / c_th**3
-    theta_dot = -omega
-    theta_ddot = -alpha
-    x_star = (a - OA * cphi) / c_th
-    V_r = (OA * w0 * sphi * c_th + (a - OA * cphi) * s_th * theta_dot) / (c_th * c_th)
-    A_r = (OA * w0 * w0 * cphi + 2.0 * V_r * s_th * theta_dot
-           + x_star * (c_th * theta_dot * theta_dot + s_th * theta_ddot)) / c_th
-    lever = OA - lam * x_star  # Y = sin(phi) * lever
-    Y_ddot = -w0 * w0 * sphi * lever - 2.0 * lam * w0 * cphi * V_r - lam * sphi * A_r
-    return np.arcsin(s_th), v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th
+    theta, v_O1, _, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = crank_state(
+        crank_speed * t, crank_speed, 0.0, crank_length, rod_length, guide_distance)
+    return theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th
 
 
 def slider_crank(t, crank_length, rod_length, crank_speed, guide_distance):

@@ -1,0 +1,250 @@
+"""The crank driven by a torque through a flywheel: the rigid slider-crank's dynamics (docs/model.md, "Driven crank").
+
+With ``drive.law`` other than ``"speed"`` the crank angle ``phi(t)`` is not prescribed but follows from
+
+    M(phi) phi_ddot + 1/2 M'(phi) phi_dot^2 = T_motor(phi_dot, t) + Q_slider(phi, phi_dot) + Q_gravity(phi),
+
+the Lagrange equation of the rigid mechanism with one degree of freedom: the crank and flywheel
+(``J_f``), the link as a rigid body (its mass, first and second moments about the crank pin O, the
+same :func:`~lubelink.link.reactions.link_inertia` the joint reactions use), the slider (``m_s``) and
+the collar's guided member (``m_c``). Every acceleration is :func:`~lubelink.link.kinematics.crank_state`'s;
+the velocity of each body per unit crank speed (its *velocity coefficient*) is the same function's
+acceleration at zero speed and unit crank acceleration, so the kinematics are written once. The
+generalised inertia force is linear in ``phi_ddot``:
+
+    Q_inertia(phi, phi_dot, phi_ddot) = M(phi) phi_ddot + 1/2 M'(phi) phi_dot^2
+
+(:func:`inertia_torque`), hence ``M = Q_inertia(phi, 0, 1)`` and the velocity term ``Q_inertia(phi,
+phi_dot, 0)``. The equation is integrated by SciPy's ``solve_ivp`` (DOP853, dense output) over the
+run; :func:`driven_motion` samples ``phi``, ``phi_dot``, ``phi_ddot`` into a
+:func:`~lubelink.link.kinematics.sampled_motion`, the prescribed rigid motion of the elastic link.
+
+The coupling is one-way: the link's elastic forces do not act back on the crank
+(:func:`elastic_torque` measures what is left out).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import NamedTuple
+
+import numpy as np
+
+from ..params import Config, Drive, Mechanism
+from .kinematics import SampledMotion, crank_state, sampled_motion
+
+__all__ = ["RigidMasses", "rigid_masses", "inertia_torque", "generalised_inertia", "velocity_torque",
+           "slider_velocity", "slider_torque", "gravity_torque", "motor_torque", "crank_rates", "integrate_crank",
+           "CrankSolution", "DrivenMotion", "driven_motion", "kinetic_energy", "elastic_torque"]
+
+
+class RigidMasses(NamedTuple):
+    """The inertia of the rigid slider-crank.
+
+    Attributes
+    ----------
+    flywheel : float
+        Crank and flywheel about the crank axis [kg m^2] (``J_f``).
+    link_mass, link_first, link_second : float
+        The link's mass [kg], its first [kg m] and second [kg m^2] moments about the crank pin O along
+        the link (``m``, ``S = int rho A x dx``, ``I_O = int rho A x^2 dx``).
+    slider : float
+        Slider mass [kg] (``m_s``).
+    collar : float
+        Mass of the collar and its guided member [kg] (``m_c``).
+    gravity : tuple of float
+        ``(g_X, g_Y)`` [m/s^2].
+    """
+
+    flywheel: float
+    link_mass: float
+    link_first: float
+    link_second: float
+    slider: float
+    collar: float
+    gravity: tuple = (0.0, 0.0)
+
+
+def rigid_masses(config: Config, section=None) -> RigidMasses:
+    """:class:`RigidMasses` of a configuration (``section``: a :class:`~lubelink.link.section.Section` replacing the beam's)."""
+    from .reactions import link_inertia
+    from .section import taper
+
+    L = config.mechanism.rod_length
+    inertia = link_inertia(section or taper(config.beam, L), config.beam.density, L, 1)
+    return RigidMasses(config.drive.flywheel_inertia, inertia.mass, inertia.first, inertia.second,
+                       config.drive.slider_mass, config.collar.mass, tuple(config.mechanism.gravity))
+
+
+def _state(phi, phi_dot, phi_ddot, m: Mechanism):
+    return crank_state(phi, phi_dot, phi_ddot, m.crank_length, m.rod_length, m.guide_distance)
+
+
+def slider_velocity(phi, phi_dot, m: Mechanism):
+    """Velocity of the slider C along +X [m/s] at crank angle ``phi`` [rad] and speed ``phi_dot`` [rad/s]."""
+    theta, _, g1, g2, _, g_w, *_ = _state(phi, 0.0, 1.0, m)
+    return (np.cos(theta) * g1 + np.sin(theta) * (g2 + g_w * m.rod_length)) * phi_dot
+
+
+def inertia_torque(phi, phi_dot, phi_ddot, m: Mechanism, masses: RigidMasses):
+    """Generalised inertia force of the rigid mechanism on the crank angle [N m]: ``M phi_ddot + M' phi_dot^2 / 2``.
+
+    The sum over the bodies of their momentum's rate dotted with their velocity per unit crank speed
+    (the link: its force and its moment about O). ``phi`` [rad], ``phi_dot`` [rad/s], ``phi_ddot``
+    [rad/s^2]; elementwise on arrays.
+    """
+    L = m.rod_length
+    theta, _, A1, A2, w, al, _, _, _, Y_dd, c = _state(phi, phi_dot, phi_ddot, m)
+    _, _, g1, g2, _, g_w, _, _, _, g_Y, _ = _state(phi, 0.0, 1.0, m)
+    s = np.sin(theta)
+    mass, S, I_O = masses.link_mass, masses.link_first, masses.link_second
+    link = (mass * A1 - S * w * w) * g1 + (mass * A2 + S * al) * g2 + (S * A2 + I_O * al) * g_w
+    slider = masses.slider * (c * (A1 - w * w * L) + s * (A2 + al * L)) * (c * g1 + s * (g2 + g_w * L))
+    return masses.flywheel * phi_ddot + link + slider + masses.collar * Y_dd * g_Y
+
+
+def generalised_inertia(phi, m: Mechanism, masses: RigidMasses):
+    """``M(phi)`` [kg m^2]: the rigid mechanism's inertia about the crank angle ``phi`` [rad] (kinetic energy ``M phi_dot^2 / 2``)."""
+    return inertia_torque(phi, 0.0, 1.0, m, masses)
+
+
+def velocity_torque(phi, phi_dot, m: Mechanism, masses: RigidMasses):
+    """``M'(phi) phi_dot^2 / 2`` [N m] at crank angle ``phi`` [rad] and speed ``phi_dot`` [rad/s]."""
+    return inertia_torque(phi, phi_dot, 0.0, m, masses)
+
+
+def kinetic_energy(phi, phi_dot, m: Mechanism, masses: RigidMasses):
+    """Kinetic energy of the rigid mechanism ``M(phi) phi_dot^2 / 2`` [J]."""
+    return 0.5 * generalised_inertia(phi, m, masses) * phi_dot * phi_dot
+
+
+def slider_torque(phi, phi_dot, m: Mechanism, drive: Drive):
+    """Generalised force of the slider's external loads on the crank angle [N m].
+
+    The constant force ``drive.slider_force`` along +X and the Coulomb friction ``drive.slider_friction``
+    against the slider's velocity: ``(F_s - F_f sign(X_C_dot)) dX_C/dphi``. ``phi`` [rad], ``phi_dot`` [rad/s].
+    """
+    g_X = slider_velocity(phi, 1.0, m)
+    return drive.slider_force * g_X - drive.slider_friction * np.abs(g_X) * np.sign(phi_dot)
+
+
+def gravity_torque(phi, m: Mechanism, masses: RigidMasses):
+    """Generalised force of gravity [N m] on the crank angle ``phi`` [rad]: on the link, the slider and the collar.
+
+    The crank and flywheel are taken balanced (their centre of mass on the crank axis).
+    """
+    gX, gY = masses.gravity
+    if gX == 0.0 and gY == 0.0:
+        return 0.0 * np.asarray(phi, dtype=float)
+    theta, _, g1, g2, _, g_w, _, _, _, g_Y, c = _state(phi, 0.0, 1.0, m)
+    s = np.sin(theta)
+    g_i, g_j = gX * c - gY * s, gX * s + gY * c  # gravity along the link's i and j
+    link = masses.link_mass * (g_i * g1 + g_j * g2) + masses.link_first * g_j * g_w
+    return link + masses.slider * gX * (c * g1 + s * (g2 + g_w * m.rod_length)) + masses.collar * gY * g_Y
+
+
+def motor_torque(phi_dot, error_integral, drive: Drive, set_speed):
+    """Motor torque on the crank about +k [N m] of ``drive.law``.
+
+    ``phi_dot`` [rad/s]; ``error_integral`` [rad]: ``int (set_speed - phi_dot) dt`` (the controller's);
+    ``set_speed`` [rad/s]: the controller's set speed (``mechanism.crank_speed``).
+    """
+    if drive.law == "torque":
+        return drive.torque + 0.0 * phi_dot
+    if drive.law == "torque-speed":
+        return drive.stall_torque * (1.0 - phi_dot / drive.no_load_speed)
+    if drive.law == "controller":
+        return drive.torque + drive.proportional_gain * (set_speed - phi_dot) + drive.integral_gain * error_integral
+    raise ValueError(f"drive.law = {drive.law!r}: the crank speed is prescribed, there is no motor torque")
+
+
+def crank_rates(t, y, config: Config, masses: RigidMasses):
+    """Right-hand side of the crank's equation: ``y = (phi [rad], phi_dot [rad/s], int e dt [rad])`` -> rates."""
+    phi, phi_dot, z = y
+    m, d = config.mechanism, config.drive
+    load = (motor_torque(phi_dot, z, d, m.crank_speed) + slider_torque(phi, phi_dot, m, d)
+            + gravity_torque(phi, m, masses) - velocity_torque(phi, phi_dot, m, masses))
+    return np.array([phi_dot, load / generalised_inertia(phi, m, masses), m.crank_speed - phi_dot])
+
+
+@dataclass(frozen=True)
+class CrankSolution:
+    """The integrated crank motion: ``solution`` SciPy's ``OdeSolution`` of ``(phi, phi_dot, int e dt)``."""
+
+    solution: object
+    config: Config
+    masses: RigidMasses
+    nfev: int
+
+    def __call__(self, t):
+        """``(phi [rad], phi_dot [rad/s], phi_ddot [rad/s^2], motor torque [N m])`` at times ``t`` [s]."""
+        t = np.asarray(t, dtype=float)
+        phi, phi_dot, z = self.solution(t)
+        m = self.config.mechanism
+        phi_ddot = crank_rates(t, (phi, phi_dot, z), self.config, self.masses)[1]
+        return phi, phi_dot, phi_ddot, motor_torque(phi_dot, z, self.config.drive, m.crank_speed)
+
+
+def integrate_crank(config: Config, t_end, masses: RigidMasses | None = None, rtol=1e-11, atol=1e-12):
+    """Integrate the crank's equation from ``phi = 0``, ``phi_dot = mechanism.crank_speed`` over ``[0, t_end]`` [s].
+
+    SciPy's DOP853 with dense output at tolerances ``rtol``, ``atol`` (a 3-state ODE, off the hot path).
+    """
+    from scipy.integrate import solve_ivp
+
+    masses = rigid_masses(config) if masses is None else masses
+    sol = solve_ivp(crank_rates, (0.0, float(t_end)), [0.0, config.mechanism.crank_speed, 0.0], method="DOP853",
+                    rtol=rtol, atol=atol, dense_output=True, args=(config, masses))
+    if not sol.success:
+        raise RuntimeError(f"the crank's equation (drive.law = {config.drive.law!r}) failed: {sol.message}")
+    return CrankSolution(sol.sol, config, masses, int(sol.nfev))
+
+
+@dataclass(frozen=True, eq=False)
+class DrivenMotion(SampledMotion):
+    """A :class:`~lubelink.link.kinematics.SampledMotion` of the driven crank, with the crank's solution (``crank``)."""
+
+    crank: CrankSolution | None = None
+
+
+#: Samples of the rigid motion per crank turn (at the fastest speed of the run).
+SAMPLES_PER_TURN = 512
+
+
+def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TURN) -> DrivenMotion:
+    """The link's rigid motion under the driven crank, for ``config.solver.t_end`` (and a turn beyond).
+
+    ``crank_state`` at the integrated ``phi``, ``phi_dot``, ``phi_ddot``, sampled ``samples_per_turn``
+    times a turn at the run's fastest crank speed and interpolated by C2 cubic splines.
+    """
+    masses = rigid_masses(config, section)
+    m = config.mechanism
+    margin = 2.0 * np.pi / abs(m.crank_speed)
+    crank = integrate_crank(config, config.solver.t_end + margin, masses)
+    t_grid = crank.solution.ts
+    fastest = max(float(np.max(np.abs(crank.solution(t_grid)[1]))), 1e-3 * abs(m.crank_speed))
+    step = 2.0 * np.pi / fastest / samples_per_turn
+    t = np.linspace(0.0, t_grid[-1], int(np.ceil(t_grid[-1] / step)) + 1)
+    phi, phi_dot, phi_ddot, _ = crank(t)
+    theta, _, _, A_O2, omega, alpha, x_star, V_r, _, Y_dd, c = _state(phi, phi_dot, phi_ddot, m)
+    s = sampled_motion(t, A_O2, omega, x_star, alpha=alpha, V_r=V_r, reaction=-masses.collar * Y_dd / c,
+                       angle=-theta)
+    return DrivenMotion(**{f.name: getattr(s, f.name) for f in fields(s)}, crank=crank)
+
+
+def elastic_torque(phi, phi_dot, phi_ddot, q, q_dot, q_ddot, m: Mechanism, inertia):
+    """The torque the link's elastic motion puts on the crank, left out by the one-way coupling [N m].
+
+    The elastic part of the link's generalised inertia force on ``phi``: the link's momentum rate and
+    moment about O with the sine modes ``q`` [m], ``q_dot`` [m/s], ``q_ddot`` [m/s^2] (shape ``(T, N)``)
+    less those of the rigid link (:func:`lubelink.link.reactions.joint_reactions`' ``P_i``, ``P_j``,
+    ``M_O``), dotted with the velocity coefficients; ``inertia`` :func:`~lubelink.link.reactions.link_inertia`.
+    Positive: it would speed the crank up.
+    """
+    _, _, A1, _, w, al, *_ = _state(phi, phi_dot, phi_ddot, m)
+    _, _, g1, g2, _, g_w, *_ = _state(phi, 0.0, 1.0, m)
+    U, U_dot, U_ddot = q @ inertia.modal, q_dot @ inertia.modal, q_ddot @ inertia.modal
+    P_i = -al * U - 2.0 * w * U_dot
+    P_j = -w * w * U + U_ddot
+    M_O = q_ddot @ inertia.modal_first - U * A1
+    return -(P_i * g1 + P_j * g2 + M_O * g_w)
