@@ -100,8 +100,7 @@ def make_params(config: Config, table: MotionTable | None, cross_section=None) -
     pad = film.pad_tables(N, L, config.film)
     if table is None:
         table = SliderCrank(config.mechanism).table(config.collar.mass)
-    if table.knots is not None:
-        table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
+    table = table._replace(knots=_c(table.knots), coef=_c(table.coef))
     phase = NO_PHASE if config.contact.law in ("compliant", "restitution") else None
     ct = kernel_view(config.contact)
     if config.contact.law == "compliant" and config.contact.extent == "pad":  # (see contact.COMPLIANT_PAD)

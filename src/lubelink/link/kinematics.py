@@ -47,6 +47,9 @@ __all__ = [
 SLIDER_CRANK, SAMPLED = 0, 1
 #: Channels of a sampled motion, in the order of the rows of ``MotionTable.coef``.
 CHANNELS = ("A_O2", "omega", "alpha", "x_star", "V_r", "reaction", "angle")
+#: The slider-crank's (empty) spline tables: of the same types as a sampled motion's, so that both
+#: run the same compiled kernels.
+NO_KNOTS, NO_COEF = np.zeros(0), np.zeros((len(CHANNELS), 4, 0))
 
 
 class RigidMotion(NamedTuple):
@@ -90,10 +93,11 @@ class MotionTable(NamedTuple):
     """A motion in the form compiled code evaluates (:func:`motion_at`).
 
     ``kind`` is :data:`SLIDER_CRANK` (the four lengths and speed are used; ``knots`` and
-    ``coef`` None, so compiled code holds no spline) or :data:`SAMPLED` (``knots`` [s] and
+    ``coef`` empty, :data:`NO_KNOTS` and :data:`NO_COEF`) or :data:`SAMPLED` (``knots`` [s] and
     ``coef``, shape ``(7, 4, knots.size - 1)``: for each of :data:`CHANNELS` the cubic
     coefficients on each interval, highest power first). ``collar_mass`` [kg] scales the
-    slider-crank's joint reaction (D7).
+    slider-crank's joint reaction (D7). Both kinds have the same types, so they share the
+    compiled kernels.
     """
 
     kind: int
@@ -102,8 +106,8 @@ class MotionTable(NamedTuple):
     crank_speed: float
     guide_distance: float
     collar_mass: float
-    knots: np.ndarray | None
-    coef: np.ndarray | None
+    knots: np.ndarray
+    coef: np.ndarray
 
 
 @jitable
@@ -222,7 +226,7 @@ def piecewise_cubic(t, knots, coef, channel):
     return cubic_piece(coef, channel, i, dx)
 
 
-@jitable
+@jitable(inline=True)
 def motion_at(t, m):
     """Rigid motion of the link at time ``t`` [s] for the motion table ``m`` (:class:`MotionTable`).
 
@@ -231,17 +235,23 @@ def motion_at(t, m):
     RigidMotion
         Of floats.
     """
-    return _motion(t, m, m.knots, m.coef)
+    if m.kind == SLIDER_CRANK:
+        return _slider_crank_motion(t, m)
+    return _sampled_motion(t, m.knots, m.coef)
 
 
 @jitable
-def _motion(t, m, knots, coef):
-    """:func:`motion_at` with the spline tables as arguments (None: the slider-crank, compiled alone)."""
-    if knots is None:
-        theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
-            t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
-        reaction = -m.collar_mass * Y_ddot / c_th
-        return RigidMotion(A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1)
+def _slider_crank_motion(t, m):
+    """:func:`motion_at` of the slider-crank (:data:`SLIDER_CRANK`)."""
+    theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
+        t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
+    reaction = -m.collar_mass * Y_ddot / c_th
+    return RigidMotion(A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1)
+
+
+@jitable
+def _sampled_motion(t, knots, coef):
+    """:func:`motion_at` of a sampled motion (:data:`SAMPLED`): its splines at ``t``."""
     return RigidMotion(piecewise_cubic(t, knots, coef, 0), piecewise_cubic(t, knots, coef, 1),
                        piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
                        piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
@@ -277,22 +287,10 @@ def collar_acceleration(t, m):
 
     The slider-crank's closed form, or the derivative of the ``V_r`` spline of a sampled motion.
     """
-    return _collar_acceleration(t, m, m.knots, m.coef)
-
-
-@jitable
-def _collar_acceleration(t, m, knots, coef):
-    """:func:`collar_acceleration` with the spline tables as arguments (None: the slider-crank)."""
-    if knots is None:
+    if m.kind == SLIDER_CRANK:
         return slider_crank_state(t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)[7]
-    n = knots.shape[0] - 1
-    i = np.searchsorted(knots, t, side="right") - 1
-    if i < 0:
-        i = 0
-    elif i > n - 1:
-        i = n - 1
-    dx = t - knots[i]
-    return (3.0 * coef[4, 0, i] * dx + 2.0 * coef[4, 1, i]) * dx + coef[4, 2, i]
+    i, dx = knot_interval(t, m.knots)
+    return (3.0 * m.coef[4, 0, i] * dx + 2.0 * m.coef[4, 1, i]) * dx + m.coef[4, 2, i]
 
 
 @dataclass(frozen=True)
@@ -314,7 +312,7 @@ class SliderCrank:
         """The :class:`MotionTable` of this motion for the compiled code."""
         m = self.mechanism
         return MotionTable(SLIDER_CRANK, float(m.crank_length), float(m.rod_length), float(m.crank_speed),
-                           float(m.guide_distance), float(collar_mass), None, None)
+                           float(m.guide_distance), float(collar_mass), NO_KNOTS, NO_COEF)
 
     def joint_reaction(self, t, mass):
         """Force of the collar on the link along +j [N] (D7).
