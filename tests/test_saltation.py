@@ -14,7 +14,7 @@ import pytest
 
 from lubelink.build import build_model
 from lubelink.config import resolve
-from lubelink.jumps import restitution_terms, restitution_terms_by_differences, unsupported
+from lubelink.jumps import approach_jacobian, restitution_terms, restitution_terms_by_differences, unsupported
 from lubelink.steady import ShootingError, find_periodic
 from lubelink.steady import saltation
 from lubelink.steady.saltation import Grazing, compose, saltation_matrix
@@ -77,6 +77,19 @@ def test_written_out_reset_jacobian_matches_differences_of_the_impact(where):
     # the event's rate is grad g . f_- plus its explicit time derivative (zero inside the pad)
     if where == "interior":
         assert exact.rate == pytest.approx(exact.gradient @ exact.f_minus, rel=1e-9)
+    # the thinnest film's point, which a sustained contact holds (lubelink.phases): written out against
+    # central differences of the film's own search, inside the pad (at an edge it moves with the collar)
+    N, L = 3, config.mechanism.rod_length
+    _, x_c, at_edge, side = model.thinnest_film(t, y)
+    _, _, _, _, dx_dq, dx_dt = approach_jacobian(y[:N], y[N:], x_c, at_edge, side, model.kinematics(t).V_r, 0.0, L)
+    h = 1e-7 * scale[:N]
+    found = [(model.thinnest_film(t, y + np.r_[h[n] * np.eye(N)[n], np.zeros(N)])[1]
+              - model.thinnest_film(t, y - np.r_[h[n] * np.eye(N)[n], np.zeros(N)])[1]) / (2 * h[n]) for n in range(N)]
+    if where == "interior":
+        np.testing.assert_allclose(dx_dq, found, rtol=1e-5, atol=1e-5 * np.max(np.abs(found)))
+        assert np.max(np.abs(found)) > 1e-3  # the point moves with the state
+    else:
+        assert np.all(dx_dq == 0.0) and np.all(np.asarray(found) == 0.0) and dx_dt == model.kinematics(t).V_r
 
 
 @pytest.fixture(scope="module")
