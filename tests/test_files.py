@@ -176,6 +176,8 @@ NOT_PUBLISHED = {
     ("benchmarks/exudyn_frequency.py", "savez"): "the same, for the frequency set-ups",
     ("src/lubelink/sweep/_warm.py", "open"): "an empty file that says the pool's server is ready (its existence "
                                              "is the message)",
+    ("benchmarks/bench.py", "write_text"): "the smallest cached kernel's module, in the start section's private "
+                                           "temporary folder",
 }
 
 

@@ -497,15 +497,29 @@ PATHS = {"serial": (["--executor", "serial"], ["--executor", "serial"]),
          "dask": (["--workers", "2", "--executor", "dask"], None)}  # resumed on the shared cluster (--scheduler)
 
 
+#: The sweep the kill test interrupts: SWEEP_TOML's points 10x longer. With 0.1 s a point (a few ms of work) the
+#: batches of about ``task_seconds`` stored the whole sweep between two polls of the store on a quiet machine.
+KILL_TOML = SWEEP_TOML.replace('"solver.t_end" = 0.1', '"solver.t_end" = 1.0')
+
+
+@pytest.fixture(scope="module")
+def kill_reference(tmp_path_factory):
+    """KILL_TOML's sweep, uninterrupted, in this process."""
+    folder = tmp_path_factory.mktemp("kill-reference")
+    (folder / "sweep.toml").write_text(KILL_TOML)
+    return run_sweep(folder / "sweep.toml", folder / "ref.zarr", executor="serial", progress=False)
+
+
 @on_cluster
 @pytest.mark.parametrize("path", list(PATHS))
-def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(reference, client, tmp_path, path):
+def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(kill_reference, client, tmp_path, path):
     """SIGKILL the whole CLI process group (the sweep's process and its workers, or its Dask scheduler
     and workers) once points are stored, then resume with the CLI: on the same path, and for Dask on
     the shared cluster (--scheduler). Nothing is lost and no stored point is computed again."""
-    _, ref, _ = reference
-    (tmp_path / "sweep.toml").write_text(SWEEP_TOML)
+    ref = kill_reference
+    (tmp_path / "sweep.toml").write_text(KILL_TOML)
     store, first, second = tmp_path / "k.zarr", tmp_path / "first.log", tmp_path / "second.log"
+    stored(store)  # (imports zarr now, not while the sweep runs)
     cmd = [sys.executable, "-m", "lubelink", "sweep", "sweep.toml", "-o", "k.zarr", "-q"]
     killed_args, resumed_args = PATHS[path]
     proc = subprocess.Popen(cmd + killed_args + ["--trace", str(first)], cwd=tmp_path, start_new_session=True,
