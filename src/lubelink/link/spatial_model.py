@@ -49,7 +49,8 @@ from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_
 from .spatial import _frame
 from .spatial_motion import SpatialMotion, collar_acceleration_at, spatial_motion_at
 
-__all__ = ["SpatialTable", "spatial_axial_terms", "spatial_geometric_on", "spatial_rhs", "spatial_jacobian_given",
+__all__ = ["SpatialTable", "spatial_axial_terms", "spatial_geometric_on", "chord_terms", "spatial_chord_on",
+           "spatial_chord_power", "spatial_rhs", "spatial_jacobian_given",
            "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
 
 #: ``film.faces``'s code of the second film pair (on the ``u3`` faces).
@@ -148,6 +149,7 @@ def _rhs_in(g, axial, kin, y, out, p):
     A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
     if g is None:
         spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out, axial)
+        spatial_chord_on(p.geometric, kin, y, out, p)
     else:
         spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
                                             p.basis.modal_mass, out, axial)
@@ -175,6 +177,56 @@ def spatial_geometric_on(g, kin, yq, p, F):
     N = p.basis.modes
     axial.geometric_load(g.moments, c0, c1, c2, yq[N:2 * N], F[N:2 * N])
     axial.geometric_load(g.moments, c0, c1, c2, yq[2 * N:3 * N], F[2 * N:3 * N])
+
+
+@jitable
+def chord_terms(kin, p):
+    """The :class:`~lubelink.link.axial.ChordCoefficients` of the spatial slider-crank's rigid motion ``kin``: its guide
+    ``slider_dir`` in the link frame, the frame's rates (:func:`~lubelink.link.axial.chord_coefficients`)."""
+    d = _frame(p.spatial.motion.slider_dir, kin.e1, kin.e2, kin.e3)
+    return axial.chord_coefficients(d, kin.omega, kin.alpha, p.basis.rod_length)
+
+
+@jitable
+def spatial_chord_on(g, kin, y, out, p):
+    """Correct the bending accelerations in ``out`` for the rotation of the chord the slider forces on the bent link,
+    about both transverse axes (:func:`~lubelink.link.axial.frame_chord_rotation` on the ``u2`` and ``u3`` blocks;
+    ``g`` None: ``beam.axial_force = "none"``, nothing)."""
+    if g is None:
+        return
+    N = p.basis.modes
+    M = 3 * N
+    axial.frame_chord_rotation(g.lever, g.slopes, g.mass_per_length, p.basis.modal_mass, chord_terms(kin, p),
+                               y[N:M], y[M + N:], out[M + N:])
+
+
+@jitable
+def spatial_chord_power(g, kin, y, p):
+    """The power [W] of the chord's rotation's modal forces (:func:`~lubelink.link.axial.frame_chord_rotation_force`
+    at the accelerations of :func:`spatial_rhs_given`) at the uniform link's state ``y`` (``g`` None: 0)."""
+    if g is None:
+        return 0.0
+    N = p.basis.modes
+    M = 3 * N
+    d = np.empty(2 * M)
+    spatial_rhs_given(kin, y, d, p)
+    F = np.empty(2 * N)
+    axial.frame_chord_rotation_force(g.lever, g.slopes, g.mass_per_length, chord_terms(kin, p), y[N:M], y[M + N:],
+                                     d[M + N:], F)
+    return np.dot(y[M + N:], F)
+
+
+@jitable
+def _spatial_chord_jacobian(g, kin, y, J, p):
+    """Turn the bending accelerations' rows of ``J`` into those with the chord's rotation (``g`` None: nothing)."""
+    if g is None:
+        return
+    N = p.basis.modes
+    M = 3 * N
+    d = np.empty(2 * M)
+    spatial_rhs_given(kin, y, d, p)
+    axial.frame_chord_rotation_jacobian(g.lever, g.slopes, g.mass_per_length, p.basis.modal_mass, chord_terms(kin, p),
+                                        y[N:M], y[M + N:], d[M + N:], J[M + N:, N:M], J[M + N:, M + N:], J[M + N:, :])
 
 
 @jitable
@@ -235,6 +287,7 @@ def spatial_jacobian_given(kin, y, J, p):
     spatial.oscillator_jacobian(p.spatial.W, p.beam.damping_ratio, kin.omega, kin.alpha, Jq, Jv, p.spatial.axial)
     for i in range(M):
         J[i, M + i] = 1.0
+    _spatial_chord_jacobian(p.geometric, kin, y, J, p)
 
 
 @jitable
