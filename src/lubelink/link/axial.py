@@ -20,7 +20,10 @@ The same slider turns the chord: a bent link is shorter between its ends by ``de
 and with O held on the crank and C on the ``X`` axis its chord turns by ``dpsi = tan(angle) delta / L``
 (second order in the deflection). The points of the link move across it by ``x dpsi``: their inertia couples
 the modes through a mass that depends on the deflection (:func:`chord_rotation`, docs/model.md §1.5), the
-second half of the slider's second-order work (the first is ``N_C``'s stiffness).
+second half of the slider's second-order work (the first is ``N_C``'s stiffness). Written once for a frame that
+turns in space (:func:`frame_chord_rotation`: the spatial link, ``delta = int (u2'^2 + u3'^2) / 2``, the chord
+turning about ``e2`` and ``e3`` with the guide's direction, :func:`chord_coefficients`); the planar functions are
+its restriction to the ``u2`` block and the planar motion (:func:`planar_chord_coefficients`).
 """
 
 from __future__ import annotations

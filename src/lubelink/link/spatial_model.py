@@ -23,8 +23,9 @@ callables) replaces the slider-crank.
 With ``beam.axial_force = "inertial"`` (``Params.geometric``; None: compiled out) the axial force of the rigid
 motion, the link's inertia in its spinning frame, gravity and the slider's force normal to its guide
 (:func:`spatial_axial_terms`), stiffens both bending directions alike (:func:`spatial_geometric_on`, the planar
-:mod:`lubelink.link.axial` primitives on the ``q2`` and the ``q3`` blocks); the chord's rotation under the
-slider (the planar model's :func:`lubelink.link.axial.chord_rotation`) is not modelled here (docs/model.md §1.5).
+:mod:`lubelink.link.axial` primitives on the ``q2`` and the ``q3`` blocks), and the chord of the bent link turns
+about both transverse axes to keep C on its guide (:func:`spatial_chord_on`,
+:func:`lubelink.link.axial.frame_chord_rotation`, whose restriction the planar model's is; docs/model.md §1.5).
 
 A variable section (the taper keys, or ``section=``) is integrated in the three Galerkin
 eigenbases of :mod:`lubelink.link.spatial_section` (``SpatialTable.galerkin``; ``Params.galerkin`` is
@@ -267,7 +268,8 @@ def spatial_jacobian_given(kin, y, J, p):
     asperity contact of each pair of faces (:func:`~lubelink.link.faces.face_jacobian` on its block) and the
     compliant contact of a contact phase on its block and the axial force's geometric stiffness on both bending
     blocks (``beam.axial_force``), divided by the modal mass (the free axial end's couplings of ``p.spatial.axial``
-    in the frame's terms).
+    in the frame's terms); then the bending rows turned into those with the chord's rotation
+    (:func:`~lubelink.link.axial.frame_chord_rotation_jacobian`).
     """
     N = p.basis.modes
     M = 3 * N
