@@ -230,23 +230,27 @@ def chord_coefficients(d, w, al, rod_length):
     ``c . (2 w x U' + al x U + w x (w x U)) = gyro . U' + frame . U``, ``gyro = 2 c x w``,
     ``frame = c x al + (w . c) w - |w|^2 c`` (docs/model.md §1.5).
     """
-    L = rod_length
     dt = _cross(d, w)  # -w x d
     dtt = _lin(-1.0, _cross(al, d), 1.0, _cross(w, _cross(w, d)))
-    c, ct, ctt = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
-    for k in (1, 2):
-        f = d[k] / d[0]
-        f_t = (dt[k] - f * dt[0]) / d[0]
-        f_tt = (dtt[k] - 2.0 * f_t * dt[0] - f * dtt[0]) / d[0]
-        c[k], ct[k], ctt[k] = -f / L, -f_t / L, -f_tt / L
-    cv, ctv, cttv = (c[0], c[1], c[2]), (ct[0], ct[1], ct[2]), (ctt[0], ctt[1], ctt[2])
+    c2, c2_t, c2_tt = _turn(d, dt, dtt, 1, rod_length)
+    c3, c3_t, c3_tt = _turn(d, dt, dtt, 2, rod_length)
+    cv, ctv, cttv = (0.0, c2, c3), (0.0, c2_t, c3_t), (0.0, c2_tt, c3_tt)
     wc = _cross(w, cv)
     accel = _lin3(1.0, cttv, 2.0, _cross(w, ctv), 1.0, _lin(1.0, _cross(al, cv), 1.0, _cross(w, wc)))
     rate = _lin(2.0, ctv, 2.0, wc)
     gyro = _cross(cv, w)
     frame = _lin3(1.0, _cross(cv, al), _dot(w, cv), w, -_dot(w, w), cv)
-    return ChordCoefficients((c[1], c[2]), (accel[1], accel[2]), (rate[1], rate[2]), (2.0 * gyro[1], 2.0 * gyro[2]),
+    return ChordCoefficients((c2, c3), (accel[1], accel[2]), (rate[1], rate[2]), (2.0 * gyro[1], 2.0 * gyro[2]),
                              (frame[1], frame[2]))
+
+
+@jitable
+def _turn(d, dt, dtt, k, rod_length):
+    """``c_k = -d_k / (d_1 L)`` [1/m] and its first two rates (the quotient rule on ``d`` and its rates ``dt``, ``dtt``)."""
+    f = d[k] / d[0]
+    f_t = (dt[k] - f * dt[0]) / d[0]
+    f_tt = (dtt[k] - 2.0 * f_t * dt[0] - f * dtt[0]) / d[0]
+    return -f / rod_length, -f_t / rod_length, -f_tt / rod_length
 
 
 @jitable
@@ -280,14 +284,11 @@ def _chord_sums(lever, slopes, coef, q, q_dot):
 
 
 @jitable
-def _chord_load(i, lever, slopes, mass_per_length, coef, q, sums):
-    """The chord's rotation's modal force on coordinate ``i`` that does not hold the accelerations [N]
+def _chord_load(k, n, lever, slopes, mass_per_length, coef, q, sums):
+    """The chord's rotation's modal force on mode ``n`` of block ``k`` that does not hold the accelerations [N]
     (:func:`frame_chord_rotation`): ``x_kn = -rho A [b_n (accel_k delta + rate_k delta' + c_k q'.D q') + D_n q_kn H]``."""
-    N = lever.shape[0]
-    k = i // N
-    n = i - k * N
     G = coef.accel[k] * sums[0] + coef.rate[k] * sums[1] + coef.c[k] * sums[2]
-    return -mass_per_length * (lever[n] * G + slopes[n] * q[i] * sums[3])
+    return -mass_per_length * (lever[n] * G + slopes[n] * q[k * lever.shape[0] + n] * sums[3])
 
 
 @jitable
@@ -308,8 +309,10 @@ def frame_chord_rotation(lever, slopes, mass_per_length, modal_mass, coef, q, q_
     ``delta`` turns the chord about both axes): solved exactly (Sherman-Morrison-Woodbury).
     """
     sums = _chord_sums(lever, slopes, coef, q, q_dot)
-    for i in range(q.shape[0]):
-        acc[i] += _chord_load(i, lever, slopes, mass_per_length, coef, q, sums) / modal_mass
+    N = lever.shape[0]
+    for k in range(q.shape[0] // N):
+        for n in range(N):
+            acc[k * N + n] += _chord_load(k, n, lever, slopes, mass_per_length, coef, q, sums) / modal_mass
     _chord_solve(mass_per_length / modal_mass, lever, slopes, coef, q, sums[4], sums[5], sums[6], acc)
 
 
@@ -324,7 +327,7 @@ def frame_chord_rotation_force(lever, slopes, mass_per_length, coef, q, q_dot, a
     for i in range(q.shape[0]):
         k = i // N
         n = i - k * N
-        F[i] = (_chord_load(i, lever, slopes, mass_per_length, coef, q, sums)
+        F[i] = (_chord_load(k, n, lever, slopes, mass_per_length, coef, q, sums)
                 - mass_per_length * (coef.c[k] * lever[n] * va + slopes[n] * q[i] * ua))
 
 
@@ -333,11 +336,12 @@ def _chord_products(lever, slopes, coef, q, col):
     """``(v . col, u . col)`` (``v = D q``, ``u_kn = c_k b_n``)."""
     N = lever.shape[0]
     vr = ur = 0.0
-    for i in range(q.shape[0]):
-        k = i // N
-        n = i - k * N
-        vr += slopes[n] * q[i] * col[i]
-        ur += coef.c[k] * lever[n] * col[i]
+    for k in range(q.shape[0] // N):
+        br = 0.0
+        for n in range(N):
+            vr += slopes[n] * q[k * N + n] * col[k * N + n]
+            br += lever[n] * col[k * N + n]
+        ur += coef.c[k] * br
     return vr, ur
 
 
@@ -350,10 +354,10 @@ def _chord_solve(k, lever, slopes, coef, q, uv, vv, uu, col):
     z0 = (s11 * vr - s01 * ur) / det
     z1 = (s00 * ur - s10 * vr) / det
     N = lever.shape[0]
-    for i in range(q.shape[0]):
-        c = i // N
-        n = i - c * N
-        col[i] -= k * (coef.c[c] * lever[n] * z0 + slopes[n] * q[i] * z1)
+    for b in range(q.shape[0] // N):
+        u = k * coef.c[b] * z0
+        for n in range(N):
+            col[b * N + n] -= u * lever[n] + k * slopes[n] * q[b * N + n] * z1
 
 
 @jitable
