@@ -269,26 +269,35 @@ def _chord_sums(lever, slopes, coef, q, q_dot):
     N = lever.shape[0]
     delta = delta_dot = vDv = H = uv = vv = uu = 0.0
     for k in range(q.shape[0] // N):
-        ck, hv, hx = coef.c[k], coef.gyro[k], coef.frame[k]
+        bv = bb = 0.0
         for n in range(N):
             i = k * N + n
             v = slopes[n] * q[i]
             delta += 0.5 * v * q[i]
             delta_dot += v * q_dot[i]
             vDv += slopes[n] * q_dot[i] * q_dot[i]
-            H += lever[n] * (hv * q_dot[i] + hx * q[i])
-            uv += ck * lever[n] * v
+            H += lever[n] * (coef.gyro[k] * q_dot[i] + coef.frame[k] * q[i])
+            bv += lever[n] * v
             vv += v * v
-            uu += ck * ck * lever[n] * lever[n]
+            bb += lever[n] * lever[n]
+        uv += coef.c[k] * bv
+        uu += coef.c[k] * coef.c[k] * bb
     return delta, delta_dot, vDv, H, uv, vv, uu
 
 
-@jitable
-def _chord_load(k, n, lever, slopes, mass_per_length, coef, q, sums):
+@jitable(inline=True)
+def _chord_weight(coef, k, sums):
+    """``accel_k delta + rate_k delta' + c_k q'.D q'`` [m/s^2]: the acceleration of the chord's turn ``sigma_k`` per
+    unit ``x`` without ``delta''`` (``sums`` of :func:`_chord_sums`)."""
+    return coef.accel[k] * sums[0] + coef.rate[k] * sums[1] + coef.c[k] * sums[2]
+
+
+@jitable(inline=True)
+def _chord_load(lever_n, slope_n, q_kn, G, H, mass_per_length):
     """The chord's rotation's modal force on mode ``n`` of block ``k`` that does not hold the accelerations [N]
-    (:func:`frame_chord_rotation`): ``x_kn = -rho A [b_n (accel_k delta + rate_k delta' + c_k q'.D q') + D_n q_kn H]``."""
-    G = coef.accel[k] * sums[0] + coef.rate[k] * sums[1] + coef.c[k] * sums[2]
-    return -mass_per_length * (lever[n] * G + slopes[n] * q[k * lever.shape[0] + n] * sums[3])
+    (:func:`frame_chord_rotation`): ``x_kn = -rho A (b_n G_k + D_n q_kn H)``, ``G_k`` of :func:`_chord_weight`, ``H``
+    the deflection's frame terms of :func:`_chord_sums`."""
+    return -mass_per_length * (lever_n * G + slope_n * q_kn * H)
 
 
 @jitable
@@ -310,10 +319,17 @@ def frame_chord_rotation(lever, slopes, mass_per_length, modal_mass, coef, q, q_
     """
     sums = _chord_sums(lever, slopes, coef, q, q_dot)
     N = lever.shape[0]
+    vr = ur = 0.0
     for k in range(q.shape[0] // N):
+        G = _chord_weight(coef, k, sums)
+        br = 0.0
         for n in range(N):
-            acc[k * N + n] += _chord_load(k, n, lever, slopes, mass_per_length, coef, q, sums) / modal_mass
-    _chord_solve(mass_per_length / modal_mass, lever, slopes, coef, q, sums[4], sums[5], sums[6], acc)
+            i = k * N + n
+            acc[i] += _chord_load(lever[n], slopes[n], q[i], G, sums[3], mass_per_length) / modal_mass
+            vr += slopes[n] * q[i] * acc[i]
+            br += lever[n] * acc[i]
+        ur += coef.c[k] * br
+    _chord_apply(mass_per_length / modal_mass, lever, slopes, coef, q, sums[4], sums[5], sums[6], vr, ur, acc)
 
 
 @jitable
@@ -324,11 +340,12 @@ def frame_chord_rotation_force(lever, slopes, mass_per_length, coef, q, q_dot, a
     sums = _chord_sums(lever, slopes, coef, q, q_dot)
     va, ua = _chord_products(lever, slopes, coef, q, acc)
     N = lever.shape[0]
-    for i in range(q.shape[0]):
-        k = i // N
-        n = i - k * N
-        F[i] = (_chord_load(k, n, lever, slopes, mass_per_length, coef, q, sums)
-                - mass_per_length * (coef.c[k] * lever[n] * va + slopes[n] * q[i] * ua))
+    for k in range(q.shape[0] // N):
+        G = _chord_weight(coef, k, sums)
+        for n in range(N):
+            i = k * N + n
+            F[i] = (_chord_load(lever[n], slopes[n], q[i], G, sums[3], mass_per_length)
+                    - mass_per_length * (coef.c[k] * lever[n] * va + slopes[n] * q[i] * ua))
 
 
 @jitable
@@ -346,9 +363,9 @@ def _chord_products(lever, slopes, coef, q, col):
 
 
 @jitable
-def _chord_solve(k, lever, slopes, coef, q, uv, vv, uu, col):
-    """``col <- (I + k (u v^T + v u^T))^-1 col`` (``v = D q``, ``u_kn = c_k b_n``), in place (Sherman-Morrison-Woodbury)."""
-    vr, ur = _chord_products(lever, slopes, coef, q, col)
+def _chord_apply(k, lever, slopes, coef, q, uv, vv, uu, vr, ur, col):
+    """``col <- (I + k (u v^T + v u^T))^-1 col`` (``v = D q``, ``u_kn = c_k b_n``) in place, given ``vr = v . col``,
+    ``ur = u . col`` (Sherman-Morrison-Woodbury)."""
     s00, s01, s10, s11 = 1.0 + k * uv, k * vv, k * uu, 1.0 + k * uv
     det = s00 * s11 - s01 * s10
     z0 = (s11 * vr - s01 * ur) / det
@@ -387,7 +404,8 @@ def frame_chord_rotation_jacobian(lever, slopes, mass_per_length, modal_mass, co
     for c in range(rows.shape[1]):
         for i in range(M):
             col[i] = rows[i, c]
-        _chord_solve(r, lever, slopes, coef, q, uv, vv, uu, col)
+        vr, ur = _chord_products(lever, slopes, coef, q, col)
+        _chord_apply(r, lever, slopes, coef, q, uv, vv, uu, vr, ur, col)
         for i in range(M):
             rows[i, c] = col[i]
 
