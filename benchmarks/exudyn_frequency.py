@@ -155,13 +155,7 @@ def modal_shift(case, modes=10, rotation=True):
     M = m * np.eye(modes)
     if rotation and gamma == 0.0 and psi != 0.0:
         q = np.linalg.solve(K, RHO_A * g2 * (1 - np.cos(n * np.pi)) / beta)  # the static deflection
-        b, D = axial.chord_levers(modes, L)
-        Minv = np.empty((modes, modes))
-        for k in range(modes):
-            acc = np.eye(modes)[k].copy()
-            axial.chord_rotation(b, D, RHO_A, L, m, psi, 0.0, 0.0, q, np.zeros(modes), acc)
-            Minv[:, k] = acc
-        M = m * np.linalg.inv(Minv)
+        M = axial.chord_mass(q, (np.cos(psi), -np.sin(psi), 0.0), L, RHO_A)
     return eigh(K, M, eigvals_only=True)[0] - EI / RHO_A * beta[0] ** 4
 
 

@@ -4,11 +4,13 @@ and what it costs.
 Prints, over ``--t-end`` (default 2 s) with ``--modes`` modes per direction:
 
 * the planar case (``paper-dry``): the largest ``u2_mid`` difference between the spatial and the planar model with
-  each setting of ``beam.axial_force`` (the spatial link has no chord rotation: with ``"inertial"`` the difference
-  is the planar chord rotation's share), and the largest ``|u3_mid|`` (0: the plane is kept);
+  each setting of ``beam.axial_force`` (both with the geometric stiffness and the chord's rotation under the slider
+  with ``"inertial"``; what remains is the spatial link's axial coupling), and the largest ``|u3_mid|`` (0: the
+  plane is kept);
 * ``spatial-slider-crank`` (a tilted crank, an offset slider line): the peaks of ``u2_mid``, ``u3_mid`` with each
   setting and the largest change the axial force makes;
-* warm ``simulate`` wall times of both scenarios with each setting, median of ``--repeats`` (run with
+* warm ``simulate`` wall times of both scenarios with each setting, median of ``--repeats``, and the right-hand
+  sides the run took (``nfev``; run with
   ``LUBELINK_FIRST_RUN=compile`` so that the first call compiles). Wall-clock on a shared machine: compare the
   ratio within one run.
 
@@ -65,9 +67,10 @@ def main(argv=None):
             times = []
             for _ in range(args.repeats):
                 t0 = time.perf_counter()
-                run(scenario, sets)
+                ds = run(scenario, sets)
                 times.append(time.perf_counter() - t0)
-            print(f"  {scenario:22s} {a:9s} {1e3 * statistics.median(times):9.1f} ms")
+            print(f"  {scenario:22s} {a:9s} {1e3 * statistics.median(times):9.1f} ms   {ds.attrs['nfev']:7d} "
+                  "right-hand sides")
 
 
 if __name__ == "__main__":

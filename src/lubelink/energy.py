@@ -17,8 +17,8 @@ forces [N] (the spatial link's axial block with a free end: its own modes' veloc
   spatial: :func:`lubelink.link.spatial.frame_terms`, whose Coriolis part does no work), and the geometric
   stiffness of the rigid motion's axial force (``beam.axial_force``, :mod:`lubelink.link.axial`: a stiffness
   that changes in time, so a load that works rather than a potential; on both bending directions of the spatial
-  link) with the inertia of the chord's rotation under the slider (planar link; its modal forces at the run's
-  accelerations, :func:`lubelink.link.axial.chord_rotation_force`);
+  link) with the inertia of the chord's rotation under the slider (its modal forces at the run's accelerations,
+  :func:`lubelink.link.axial.frame_chord_rotation_force`; on the spatial link about both transverse axes);
 * the structural damping, ``-2 zeta m sum W_i eta_dot_i^2 <= 0``;
 * the film, the asperity contact (on each pair of faces, :mod:`lubelink.link.faces`), the joint
   reaction of the collar;
@@ -51,7 +51,7 @@ from .link import section, spatial, spatial_section
 from .link.faces import asperity_on, film_on
 from .link.kinematics import motion_at
 from .link.model import chord_power, geometric_on, effective_acceleration, stiffened
-from .link.spatial_model import U2_U3, spatial_geometric_on
+from .link.spatial_model import U2_U3, spatial_chord_power, spatial_geometric_on
 from .link.spatial_model import effective_acceleration as spatial_effective_acceleration
 from .link.spatial_motion import spatial_motion_at
 
@@ -182,14 +182,14 @@ def _spatial_rigid_power(g, axial, y, yq, A, w, al, p):
 
 @jitable
 def _spatial_geometric_power(g, kin, yq, p):
-    """The power [W] of the axial force's geometric stiffness on both bending directions of the spatial link
-    (``g`` None: none, compiled out)."""
+    """The power [W] of the axial force's geometric stiffness on both bending directions of the spatial link and of
+    the chord's rotation (``g`` None: none, compiled out)."""
     if g is None:
         return 0.0
     M = 3 * p.basis.modes
     F = np.zeros(M)
     spatial_geometric_on(g, kin, yq, p, F)
-    return np.dot(yq[M:], F)
+    return np.dot(yq[M:], F) + spatial_chord_power(g, kin, yq, p)
 
 
 @jitable

@@ -20,7 +20,10 @@ The same slider turns the chord: a bent link is shorter between its ends by ``de
 and with O held on the crank and C on the ``X`` axis its chord turns by ``dpsi = tan(angle) delta / L``
 (second order in the deflection). The points of the link move across it by ``x dpsi``: their inertia couples
 the modes through a mass that depends on the deflection (:func:`chord_rotation`, docs/model.md §1.5), the
-second half of the slider's second-order work (the first is ``N_C``'s stiffness).
+second half of the slider's second-order work (the first is ``N_C``'s stiffness). Written once for a frame that
+turns in space (:func:`frame_chord_rotation`: the spatial link, ``delta = int (u2'^2 + u3'^2) / 2``, the chord
+turning about ``e2`` and ``e3`` with the guide's direction, :func:`chord_coefficients`); the planar functions are
+its restriction to the ``u2`` block and the planar motion (:func:`planar_chord_coefficients`).
 """
 
 from __future__ import annotations
@@ -31,11 +34,14 @@ import numpy as np
 
 from .._jit import jitable
 from ..beam import wavenumber
+from .spatial import _cross, _dot, _lin, _lin3
 
 __all__ = ["GeometricTable", "slope_moments", "slider_end_force", "axial_force_terms", "rigid_axial_force",
            "frame_axial_force", "axial_force", "geometric_stiffness", "geometric_load",
-           "geometric_jacobian", "geometric_table", "chord_levers",
-           "chord_rotation", "chord_rotation_force", "chord_rotation_jacobian"]
+           "geometric_jacobian", "geometric_table", "chord_levers", "ChordCoefficients", "chord_coefficients",
+           "planar_chord_coefficients", "frame_chord_rotation", "frame_chord_rotation_force",
+           "frame_chord_rotation_jacobian", "chord_rotation", "chord_rotation_force", "chord_rotation_jacobian",
+           "chord_mass"]
 
 
 class GeometricTable(NamedTuple):
@@ -197,131 +203,258 @@ def geometric_jacobian(moments, c0, c1, c2, Jq):
             Jq[m, n] -= c0 * moments[0, m, n] + c1 * moments[1, m, n] + c2 * moments[2, m, n]
 
 
-@jitable
-def _chord_sums(lever, slopes, q, q_dot):
-    """``(delta [m], delta_dot [m/s], q_dot D q_dot [m/s^2], b.q [m^2], b.D q [m], (D q).(D q) [1], b.b [m^4])``."""
-    delta = delta_dot = vDv = bq = vb = vv = bb = 0.0
-    for n in range(q.shape[0]):
-        v = slopes[n] * q[n]
-        delta += 0.5 * v * q[n]
-        delta_dot += v * q_dot[n]
-        vDv += slopes[n] * q_dot[n] * q_dot[n]
-        bq += lever[n] * q[n]
-        vb += v * lever[n]
-        vv += v * v
-        bb += lever[n] * lever[n]
-    return delta, delta_dot, vDv, bq, vb, vv, bb
+class ChordCoefficients(NamedTuple):
+    """The coefficients of the chord's rotation for the two bending directions ``k = 2, 3`` (each a 2-tuple,
+    :func:`chord_coefficients`): ``c`` [1/m] the chord's turn per unit shortening, ``accel`` [1/(m s^2)] and
+    ``rate`` [1/(m s)] what ``delta`` and ``delta_dot`` add to the acceleration of ``sigma = c delta``, ``gyro``
+    [1/(m s)] and ``frame`` [1/(m s^2)] the frame's terms of the deflection that the turn reads."""
+
+    c: tuple
+    accel: tuple
+    rate: tuple
+    gyro: tuple
+    frame: tuple
 
 
 @jitable
-def _chord_load(m, lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, sums):
-    """The chord rotation's modal force on mode ``m`` that does not hold the accelerations [N] (see
-    :func:`chord_rotation`): ``x_m = -(rho A / L) b_m (tau'' delta + 2 tau' delta' + tau q'.D q')
-    + (rho A omega^2 tau / L) (b_m delta + D_m q_m b.q)``."""
-    delta, delta_dot, vDv, bq = sums[0], sums[1], sums[2], sums[3]
-    tau = np.tan(angle)
-    sec2 = 1.0 + tau * tau
-    tau_dot = omega * sec2
-    tau_ddot = (alpha + 2.0 * omega * omega * tau) * sec2
-    r = mass_per_length / rod_length
-    return (-r * lever[m] * (tau_ddot * delta + 2.0 * tau_dot * delta_dot + tau * vDv)
-            + r * omega * omega * tau * (lever[m] * delta + slopes[m] * q[m] * bq))
+def chord_coefficients(d, w, al, rod_length):
+    """The :class:`ChordCoefficients` of the link frame's motion [SI]: ``d`` [-] the slider's guide direction,
+    ``w`` [rad/s], ``al`` [rad/s^2] the frame's angular velocity and acceleration, 3-tuples of link-frame components.
+
+    C stays on its guide: the chord of the link shortened by ``delta`` turns by ``sigma = c delta`` (``c_k =
+    -d_k / (d_1 L)``, the components of ``sigma`` across ``e1``, ``k = 2, 3``). The guide is fixed, so its
+    components turn against the frame, ``d' = -w x d``, ``d'' = -al x d + w x (w x d)``, and those of ``c``
+    follow by the quotient rule. The acceleration of ``sigma`` (the frame's ``2 w x sigma' + al x sigma + w x
+    (w x sigma)`` with it) is ``accel delta + rate delta' + c delta''``, ``accel = c'' + 2 w x c' + al x c +
+    w x (w x c)``, ``rate = 2 (c' + w x c)``; the frame's terms of the deflection ``U`` that ``c`` reads are
+    ``c . (2 w x U' + al x U + w x (w x U)) = gyro . U' + frame . U``, ``gyro = 2 c x w``,
+    ``frame = c x al + (w . c) w - |w|^2 c`` (docs/model.md §1.5).
+    """
+    dt = _cross(d, w)  # -w x d
+    dtt = _lin(-1.0, _cross(al, d), 1.0, _cross(w, _cross(w, d)))
+    c2, c2_t, c2_tt = _turn(d, dt, dtt, 1, rod_length)
+    c3, c3_t, c3_tt = _turn(d, dt, dtt, 2, rod_length)
+    cv, ctv, cttv = (0.0, c2, c3), (0.0, c2_t, c3_t), (0.0, c2_tt, c3_tt)
+    wc = _cross(w, cv)
+    accel = _lin3(1.0, cttv, 2.0, _cross(w, ctv), 1.0, _lin(1.0, _cross(al, cv), 1.0, _cross(w, wc)))
+    rate = _lin(2.0, ctv, 2.0, wc)
+    gyro = _cross(cv, w)
+    frame = _lin3(1.0, _cross(cv, al), _dot(w, cv), w, -_dot(w, w), cv)
+    return ChordCoefficients((c2, c3), (accel[1], accel[2]), (rate[1], rate[2]), (2.0 * gyro[1], 2.0 * gyro[2]),
+                             (frame[1], frame[2]))
+
+
+@jitable
+def _turn(d, dt, dtt, k, rod_length):
+    """``c_k = -d_k / (d_1 L)`` [1/m] and its first two rates (the quotient rule on ``d`` and its rates ``dt``, ``dtt``)."""
+    f = d[k] / d[0]
+    f_t = (dt[k] - f * dt[0]) / d[0]
+    f_tt = (dtt[k] - 2.0 * f_t * dt[0] - f * dtt[0]) / d[0]
+    return -f / rod_length, -f_t / rod_length, -f_tt / rod_length
+
+
+@jitable
+def planar_chord_coefficients(angle, omega, alpha, rod_length):
+    """:func:`chord_coefficients` of the planar link: angle [rad] from its guide (+X), rate [rad/s], angular
+    acceleration [rad/s^2]: ``d = (cos angle, -sin angle, 0)``, ``w = (0, 0, omega)``, ``al = (0, 0, alpha)``
+    (``c_2 = tan(angle) / L``)."""
+    return chord_coefficients((np.cos(angle), -np.sin(angle), 0.0), (0.0, 0.0, omega), (0.0, 0.0, alpha), rod_length)
+
+
+@jitable
+def _chord_sums(lever, slopes, coef, q, q_dot):
+    """``(delta [m], delta_dot [m/s], q_dot.D q_dot [m/s^2], gyro.U' + frame.U [1/s^2] (the deflection's frame terms
+    along c, per unit lever), u.v [m], v.v [1], u.u [m^2])`` of the ``K = q.size / N`` bending blocks ``q``, ``q_dot``
+    (``K = 1``: ``u2``; ``K = 2``: ``u2`` then ``u3``); ``u_kn = c_k b_n``, ``v = D q``."""
+    N = lever.shape[0]
+    delta = delta_dot = vDv = H = uv = vv = uu = 0.0
+    for k in range(q.shape[0] // N):
+        bv = bb = 0.0
+        for n in range(N):
+            i = k * N + n
+            v = slopes[n] * q[i]
+            delta += 0.5 * v * q[i]
+            delta_dot += v * q_dot[i]
+            vDv += slopes[n] * q_dot[i] * q_dot[i]
+            H += lever[n] * (coef.gyro[k] * q_dot[i] + coef.frame[k] * q[i])
+            bv += lever[n] * v
+            vv += v * v
+            bb += lever[n] * lever[n]
+        uv += coef.c[k] * bv
+        uu += coef.c[k] * coef.c[k] * bb
+    return delta, delta_dot, vDv, H, uv, vv, uu
+
+
+@jitable(inline=True)
+def _chord_weight(coef, k, sums):
+    """``accel_k delta + rate_k delta' + c_k q'.D q'`` [m/s^2]: the acceleration of the chord's turn ``sigma_k`` per
+    unit ``x`` without ``delta''`` (``sums`` of :func:`_chord_sums`)."""
+    return coef.accel[k] * sums[0] + coef.rate[k] * sums[1] + coef.c[k] * sums[2]
+
+
+@jitable(inline=True)
+def _chord_load(lever_n, slope_n, q_kn, G, H, mass_per_length):
+    """The chord's rotation's modal force on mode ``n`` of block ``k`` that does not hold the accelerations [N]
+    (:func:`frame_chord_rotation`): ``x_kn = -rho A (b_n G_k + D_n q_kn H)``, ``G_k`` of :func:`_chord_weight`, ``H``
+    the deflection's frame terms of :func:`_chord_sums`."""
+    return -mass_per_length * (lever_n * G + slope_n * q_kn * H)
+
+
+@jitable
+def frame_chord_rotation(lever, slopes, mass_per_length, modal_mass, coef, q, q_dot, acc):
+    """Correct the bending accelerations ``acc`` [m/s^2] (in place) for the rotation of the link's chord.
+
+    ``q`` [m], ``q_dot`` [m/s], ``acc``: the ``K`` bending blocks (``u2``, then ``u3`` when ``K = 2``) of the sine
+    modes, ``acc`` the accelerations with the chord on the rigid link's (all forces over the modal mass ``m``
+    [kg]); ``coef`` the :class:`ChordCoefficients` of the frame's motion; ``lever``, ``slopes`` the
+    :class:`GeometricTable`'s ``b`` [m^2], ``D`` [1/m]; ``rho A`` [kg/m]. The chord turns by
+    ``sigma = c delta`` (``delta = sum D_n q_kn^2 / 2``), the link's points move across it by ``x sigma``, and the
+    kinetic energy gains ``rho A (U' + w x U) . (sigma' + w x sigma)`` (``U_k = b . q_k``): Lagrange's equations
+    add the cross accelerations ``rho A [B^T a(sigma) + v c . a(U)]``,
+
+        (m I + rho A (u v^T + v u^T)) q_ddot = m acc + x,    u_kn = c_k b_n,  v = D q,
+
+    ``x`` of :func:`_chord_load` (docs/model.md §1.5). The mass is the identity plus a rank-two term (one
+    ``delta`` turns the chord about both axes): solved exactly (Sherman-Morrison-Woodbury).
+    """
+    sums = _chord_sums(lever, slopes, coef, q, q_dot)
+    N = lever.shape[0]
+    vr = ur = 0.0
+    for k in range(q.shape[0] // N):
+        G = _chord_weight(coef, k, sums)
+        br = 0.0
+        for n in range(N):
+            i = k * N + n
+            acc[i] += _chord_load(lever[n], slopes[n], q[i], G, sums[3], mass_per_length) / modal_mass
+            vr += slopes[n] * q[i] * acc[i]
+            br += lever[n] * acc[i]
+        ur += coef.c[k] * br
+    _chord_apply(mass_per_length / modal_mass, lever, slopes, coef, q, sums[4], sums[5], sums[6], vr, ur, acc)
+
+
+@jitable
+def frame_chord_rotation_force(lever, slopes, mass_per_length, coef, q, q_dot, acc, F):
+    """The chord's rotation's modal forces [N] into ``F`` given the final accelerations ``acc`` [m/s^2] (those
+    :func:`frame_chord_rotation` returns): ``F = x - rho A (u (v.acc) + v (u.acc))``, what it adds to ``m q_ddot``
+    (its power closes the energy budget). Arguments as :func:`frame_chord_rotation`."""
+    sums = _chord_sums(lever, slopes, coef, q, q_dot)
+    va, ua = _chord_products(lever, slopes, coef, q, acc)
+    N = lever.shape[0]
+    for k in range(q.shape[0] // N):
+        G = _chord_weight(coef, k, sums)
+        for n in range(N):
+            i = k * N + n
+            F[i] = (_chord_load(lever[n], slopes[n], q[i], G, sums[3], mass_per_length)
+                    - mass_per_length * (coef.c[k] * lever[n] * va + slopes[n] * q[i] * ua))
+
+
+@jitable
+def _chord_products(lever, slopes, coef, q, col):
+    """``(v . col, u . col)`` (``v = D q``, ``u_kn = c_k b_n``)."""
+    N = lever.shape[0]
+    vr = ur = 0.0
+    for k in range(q.shape[0] // N):
+        br = 0.0
+        for n in range(N):
+            vr += slopes[n] * q[k * N + n] * col[k * N + n]
+            br += lever[n] * col[k * N + n]
+        ur += coef.c[k] * br
+    return vr, ur
+
+
+@jitable
+def _chord_apply(k, lever, slopes, coef, q, uv, vv, uu, vr, ur, col):
+    """``col <- (I + k (u v^T + v u^T))^-1 col`` (``v = D q``, ``u_kn = c_k b_n``) in place, given ``vr = v . col``,
+    ``ur = u . col`` (Sherman-Morrison-Woodbury)."""
+    s00, s01, s10, s11 = 1.0 + k * uv, k * vv, k * uu, 1.0 + k * uv
+    det = s00 * s11 - s01 * s10
+    z0 = (s11 * vr - s01 * ur) / det
+    z1 = (s00 * ur - s10 * vr) / det
+    N = lever.shape[0]
+    for b in range(q.shape[0] // N):
+        u = k * coef.c[b] * z0
+        for n in range(N):
+            col[b * N + n] -= u * lever[n] + k * slopes[n] * q[b * N + n] * z1
+
+
+@jitable
+def frame_chord_rotation_jacobian(lever, slopes, mass_per_length, modal_mass, coef, q, q_dot, acc, Jq, Jv, rows):
+    """Turn the Jacobian of the accelerations without the chord's rotation into that of
+    :func:`frame_chord_rotation`'s, in place, given its final accelerations ``acc``: ``Jq``, ``Jv`` the blocks
+    ``d acc/dq``, ``d acc/dq_dot`` of the bending coordinates among themselves (``K N x K N``), ``rows`` all the
+    columns of their rows (``Jq`` and ``Jv`` views into it): ``(I + k B)^-1 [J0 + dx/dy / m - k d(B acc)/dq]``
+    with ``B = u v^T + v u^T``, ``k = rho A / m``."""
+    delta, delta_dot, vDv, H, uv, vv, uu = _chord_sums(lever, slopes, coef, q, q_dot)
+    r = mass_per_length / modal_mass
+    ua = _chord_products(lever, slopes, coef, q, acc)[1]
+    N = lever.shape[0]
+    M = q.shape[0]
+    for i in range(M):
+        j, m = i // N, i % N
+        Dq = slopes[m] * q[i]
+        for l in range(M):
+            k, n = l // N, l % N
+            vn = slopes[n] * q[l]
+            Jq[i, l] -= r * (lever[m] * (coef.accel[j] * vn + coef.rate[j] * slopes[n] * q_dot[l])
+                             + Dq * coef.frame[k] * lever[n] + coef.c[j] * lever[m] * slopes[n] * acc[l])
+            Jv[i, l] -= r * (lever[m] * (coef.rate[j] * vn + 2.0 * coef.c[j] * slopes[n] * q_dot[l])
+                             + Dq * coef.gyro[k] * lever[n])
+        Jq[i, i] -= r * slopes[m] * (H + ua)
+    col = np.empty(M)
+    for c in range(rows.shape[1]):
+        for i in range(M):
+            col[i] = rows[i, c]
+        vr, ur = _chord_products(lever, slopes, coef, q, col)
+        _chord_apply(r, lever, slopes, coef, q, uv, vv, uu, vr, ur, col)
+        for i in range(M):
+            rows[i, c] = col[i]
 
 
 @jitable
 def chord_rotation(lever, slopes, mass_per_length, rod_length, modal_mass, angle, omega, alpha, q, q_dot, acc):
-    """Correct the modal accelerations ``acc`` [m/s^2] (in place) for the rotation of the link's chord.
+    """:func:`frame_chord_rotation` of the planar link (its ``u2`` block; :func:`planar_chord_coefficients` of its
+    ``angle`` [rad] from the guide, rate ``omega`` [rad/s], ``alpha`` [rad/s^2], ``L`` [m]):
 
-    ``acc`` holds the accelerations with the chord on the rigid link's (all forces over the modal mass
-    ``m`` [kg]). The chord turns by ``dpsi = tau delta / L`` (``tau = tan(angle)``, ``angle`` [rad] the link's
-    from +X, the slider's guide; ``delta = sum D_n q_n^2 / 2`` [m] the chord's shortening), so the link's
-    points move across it by ``x dpsi``; Lagrange's equations of ``T = rho A / 2 int (u2_dot + x dpsi_dot)^2``
-    (first order in ``dpsi``) and of the frame's ``-omega^2`` softening of it give
+        (m I + c (b v^T + v b^T)) q_ddot = m acc - (rho A / L) b (tau'' delta + 2 tau' delta' + tau q'.D q')
+                                           + (rho A omega^2 tau / L) (b delta + v b.q),    c = rho A tau / L,
 
-        (m I + c (b v^T + v b^T)) q_ddot = m acc + x,    c = rho A tau / L,  v = D q,
-
-    with ``x`` of :func:`_chord_load`, ``omega`` [rad/s] and ``alpha`` [rad/s^2] the link's rate and angular
-    acceleration (``tau' = omega sec^2``, ``tau'' = (alpha + 2 omega^2 tau) sec^2``), ``lever``, ``slopes``
-    the :class:`GeometricTable`'s ``b`` [m^2], ``D`` [1/m], ``rho A`` [kg/m], ``L`` [m], ``q`` [m], ``q_dot``
-    [m/s]. The mass is the identity plus a rank-two term: solved exactly (Sherman-Morrison-Woodbury).
-    """
-    sums = _chord_sums(lever, slopes, q, q_dot)
-    vb, vv, bb = sums[4], sums[5], sums[6]
-    N = q.shape[0]
-    for n in range(N):
-        acc[n] += _chord_load(n, lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, sums) / modal_mass
-    _chord_solve(mass_per_length * np.tan(angle) / rod_length / modal_mass, lever, slopes, q, vb, vv, bb, acc)
+    ``tau = tan(angle)``, ``tau' = omega sec^2``, ``tau'' = (alpha + 2 omega^2 tau) sec^2``."""
+    frame_chord_rotation(lever, slopes, mass_per_length, modal_mass,
+                         planar_chord_coefficients(angle, omega, alpha, rod_length), q, q_dot, acc)
 
 
 @jitable
 def chord_rotation_force(lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, q_dot, acc, F):
-    """The chord rotation's modal forces [N] into ``F`` given the final accelerations ``acc`` [m/s^2] (those
-    :func:`chord_rotation` returns): ``F = x - c (b (v.acc) + v (b.acc))``, what it adds to ``m q_ddot``
-    (its power closes the energy budget). Arguments as :func:`chord_rotation`."""
-    sums = _chord_sums(lever, slopes, q, q_dot)
-    c = mass_per_length * np.tan(angle) / rod_length
-    va = ba = 0.0
-    for n in range(q.shape[0]):
-        va += slopes[n] * q[n] * acc[n]
-        ba += lever[n] * acc[n]
-    for n in range(q.shape[0]):
-        F[n] = (_chord_load(n, lever, slopes, mass_per_length, rod_length, angle, omega, alpha, q, sums)
-                - c * (lever[n] * va + slopes[n] * q[n] * ba))
-
-
-@jitable
-def _chord_solve(k, lever, slopes, q, vb, vv, bb, col):
-    """``col <- (I + k (b v^T + v b^T))^-1 col`` (``v = D q``), in place (Sherman-Morrison-Woodbury)."""
-    vr = br = 0.0
-    for n in range(q.shape[0]):
-        vr += slopes[n] * q[n] * col[n]
-        br += lever[n] * col[n]
-    s00, s01, s10, s11 = 1.0 + k * vb, k * vv, k * bb, 1.0 + k * vb
-    det = s00 * s11 - s01 * s10
-    z0 = (s11 * vr - s01 * br) / det
-    z1 = (s00 * br - s10 * vr) / det
-    for n in range(q.shape[0]):
-        col[n] -= k * (lever[n] * z0 + slopes[n] * q[n] * z1)
+    """:func:`frame_chord_rotation_force` of the planar link (arguments as :func:`chord_rotation`)."""
+    frame_chord_rotation_force(lever, slopes, mass_per_length, planar_chord_coefficients(angle, omega, alpha,
+                                                                                         rod_length), q, q_dot, acc, F)
 
 
 @jitable
 def chord_rotation_jacobian(lever, slopes, mass_per_length, rod_length, modal_mass, angle, omega, alpha, q, q_dot,
-                            acc, Jq, Jv):
-    """Turn ``Jq``, ``Jv`` (``d acc0/dq``, ``d acc0/dq_dot`` of the accelerations without the chord's rotation)
-    into those of :func:`chord_rotation`'s, in place, given its final accelerations ``acc``:
-    ``(I + k B)^-1 [J0 + dx/dy / m - k d(B acc)/dq]`` with ``B = b v^T + v b^T``, ``k = c / m``."""
-    delta, delta_dot, vDv, bq, vb, vv, bb = _chord_sums(lever, slopes, q, q_dot)
-    tau = np.tan(angle)
-    sec2 = 1.0 + tau * tau
-    tau_dot = omega * sec2
-    tau_ddot = (alpha + 2.0 * omega * omega * tau) * sec2
-    r = mass_per_length / rod_length / modal_mass
-    k = mass_per_length * tau / rod_length / modal_mass
-    w2 = omega * omega * tau
-    N = q.shape[0]
-    ba = 0.0
-    for n in range(N):
-        ba += lever[n] * acc[n]
-    for m in range(N):
-        for n in range(N):
-            vn = slopes[n] * q[n]
-            Jq[m, n] += (-r * lever[m] * (tau_ddot * vn + 2.0 * tau_dot * slopes[n] * q_dot[n])
-                         + r * w2 * (lever[m] * vn + slopes[m] * q[m] * lever[n])
-                         - k * lever[m] * slopes[n] * acc[n])
-            Jv[m, n] += -r * lever[m] * 2.0 * (tau_dot * vn + tau * slopes[n] * q_dot[n])
-        Jq[m, m] += slopes[m] * (r * w2 * bq - k * ba)
-    _chord_solve_columns(k, lever, slopes, q, vb, vv, bb, Jq)
-    _chord_solve_columns(k, lever, slopes, q, vb, vv, bb, Jv)
+                            acc, Jq, Jv, rows):
+    """:func:`frame_chord_rotation_jacobian` of the planar link (arguments as :func:`chord_rotation`)."""
+    frame_chord_rotation_jacobian(lever, slopes, mass_per_length, modal_mass,
+                                  planar_chord_coefficients(angle, omega, alpha, rod_length), q, q_dot, acc, Jq, Jv,
+                                  rows)
 
 
-@jitable
-def _chord_solve_columns(k, lever, slopes, q, vb, vv, bb, J):
-    """:func:`_chord_solve` on every column of ``J``, in place."""
-    N = q.shape[0]
-    col = np.empty(N)
-    for n in range(N):
-        for m in range(N):
-            col[m] = J[m, n]
-        _chord_solve(k, lever, slopes, q, vb, vv, bb, col)
-        for m in range(N):
-            J[m, n] = col[m]
+def chord_mass(q, guide, rod_length, mass_per_length):
+    """The generalised mass ``M(q)`` [kg] that :func:`frame_chord_rotation` solves with, ``(K N, K N)``: its
+    columns from unit accelerations at rest (``q_dot = 0``, no rotation: no other term).
+
+    ``q`` [m] shape ``(N,)`` (the planar link's ``u2``) or ``(K, N)`` (``K = 2``: ``u2``, ``u3``), ``guide`` [-] the
+    slider's guide direction in the link frame (3 components; the planar link at ``angle`` from it:
+    ``(cos angle, -sin angle, 0)``), ``L`` [m], ``rho A`` [kg/m] of the uniform link."""
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    K, N = q.shape
+    lever, slopes = chord_levers(N, rod_length)
+    m = mass_per_length * rod_length / 2
+    coef = chord_coefficients(tuple(float(g) for g in guide), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), rod_length)
+    flat = q.ravel()
+    Minv = np.empty((K * N, K * N))
+    for j in range(K * N):
+        acc = np.eye(K * N)[j].copy()
+        frame_chord_rotation(lever, slopes, mass_per_length, m, coef, flat, np.zeros(K * N), acc)
+        Minv[:, j] = acc
+    return m * np.linalg.inv(Minv)

@@ -187,7 +187,7 @@ def _chord_jacobian(g, t, kin, y, J, p):
     d = np.empty(2 * N)
     rhs_called(t, kin, y, d, p)
     axial.chord_rotation_jacobian(g.lever, g.slopes, g.mass_per_length, p.basis.rod_length, p.basis.modal_mass,
-                                  kin.angle, kin.omega, kin.alpha, y[:N], y[N:], d[N:], J[N:, :N], J[N:, N:])
+                                  kin.angle, kin.omega, kin.alpha, y[:N], y[N:], d[N:], J[N:, :N], J[N:, N:], J[N:, :])
 
 
 @jitable

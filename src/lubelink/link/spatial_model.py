@@ -23,8 +23,9 @@ callables) replaces the slider-crank.
 With ``beam.axial_force = "inertial"`` (``Params.geometric``; None: compiled out) the axial force of the rigid
 motion, the link's inertia in its spinning frame, gravity and the slider's force normal to its guide
 (:func:`spatial_axial_terms`), stiffens both bending directions alike (:func:`spatial_geometric_on`, the planar
-:mod:`lubelink.link.axial` primitives on the ``q2`` and the ``q3`` blocks); the chord's rotation under the
-slider (the planar model's :func:`lubelink.link.axial.chord_rotation`) is not modelled here (docs/model.md §1.5).
+:mod:`lubelink.link.axial` primitives on the ``q2`` and the ``q3`` blocks), and the chord of the bent link turns
+about both transverse axes to keep C on its guide (:func:`spatial_chord_on`,
+:func:`lubelink.link.axial.frame_chord_rotation`, whose restriction the planar model's is; docs/model.md §1.5).
 
 A variable section (the taper keys, or ``section=``) is integrated in the three Galerkin
 eigenbases of :mod:`lubelink.link.spatial_section` (``SpatialTable.galerkin``; ``Params.galerkin`` is
@@ -49,7 +50,8 @@ from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_
 from .spatial import _frame
 from .spatial_motion import SpatialMotion, collar_acceleration_at, spatial_motion_at
 
-__all__ = ["SpatialTable", "spatial_axial_terms", "spatial_geometric_on", "spatial_rhs", "spatial_jacobian_given",
+__all__ = ["SpatialTable", "spatial_axial_terms", "spatial_geometric_on", "chord_terms", "spatial_chord_on",
+           "spatial_chord_power", "spatial_rhs", "spatial_jacobian_given",
            "spatial_gap", "spatial_sustained_many", "face_of", "U2_U3"]
 
 #: ``film.faces``'s code of the second film pair (on the ``u3`` faces).
@@ -148,6 +150,7 @@ def _rhs_in(g, axial, kin, y, out, p):
     A = effective_acceleration(A_O, kin.e1, kin.e2, kin.e3, p.mechanism.gravity)
     if g is None:
         spatial.accelerations(y, p.spatial.W, p.beam.damping_ratio, A, w, al, F, p.basis.modal_mass, L, out, axial)
+        spatial_chord_on(p.geometric, kin, y, out, p)
     else:
         spatial_section.eigen_accelerations(g, y, yq, p.spatial.W, p.beam.damping_ratio, A, w, al, F,
                                             p.basis.modal_mass, out, axial)
@@ -175,6 +178,56 @@ def spatial_geometric_on(g, kin, yq, p, F):
     N = p.basis.modes
     axial.geometric_load(g.moments, c0, c1, c2, yq[N:2 * N], F[N:2 * N])
     axial.geometric_load(g.moments, c0, c1, c2, yq[2 * N:3 * N], F[2 * N:3 * N])
+
+
+@jitable
+def chord_terms(kin, p):
+    """The :class:`~lubelink.link.axial.ChordCoefficients` of the spatial slider-crank's rigid motion ``kin``: its guide
+    ``slider_dir`` in the link frame, the frame's rates (:func:`~lubelink.link.axial.chord_coefficients`)."""
+    d = _frame(p.spatial.motion.slider_dir, kin.e1, kin.e2, kin.e3)
+    return axial.chord_coefficients(d, kin.omega, kin.alpha, p.basis.rod_length)
+
+
+@jitable
+def spatial_chord_on(g, kin, y, out, p):
+    """Correct the bending accelerations in ``out`` for the rotation of the chord the slider forces on the bent link,
+    about both transverse axes (:func:`~lubelink.link.axial.frame_chord_rotation` on the ``u2`` and ``u3`` blocks;
+    ``g`` None: ``beam.axial_force = "none"``, nothing)."""
+    if g is None:
+        return
+    N = p.basis.modes
+    M = 3 * N
+    axial.frame_chord_rotation(g.lever, g.slopes, g.mass_per_length, p.basis.modal_mass, chord_terms(kin, p),
+                               y[N:M], y[M + N:], out[M + N:])
+
+
+@jitable
+def spatial_chord_power(g, kin, y, p):
+    """The power [W] of the chord's rotation's modal forces (:func:`~lubelink.link.axial.frame_chord_rotation_force`
+    at the accelerations of :func:`spatial_rhs_given`) at the uniform link's state ``y`` (``g`` None: 0)."""
+    if g is None:
+        return 0.0
+    N = p.basis.modes
+    M = 3 * N
+    d = np.empty(2 * M)
+    spatial_rhs_given(kin, y, d, p)
+    F = np.empty(2 * N)
+    axial.frame_chord_rotation_force(g.lever, g.slopes, g.mass_per_length, chord_terms(kin, p), y[N:M], y[M + N:],
+                                     d[M + N:], F)
+    return np.dot(y[M + N:], F)
+
+
+@jitable
+def _spatial_chord_jacobian(g, kin, y, J, p):
+    """Turn the bending accelerations' rows of ``J`` into those with the chord's rotation (``g`` None: nothing)."""
+    if g is None:
+        return
+    N = p.basis.modes
+    M = 3 * N
+    d = np.empty(2 * M)
+    spatial_rhs_given(kin, y, d, p)
+    axial.frame_chord_rotation_jacobian(g.lever, g.slopes, g.mass_per_length, p.basis.modal_mass, chord_terms(kin, p),
+                                        y[N:M], y[M + N:], d[M + N:], J[M + N:, N:M], J[M + N:, M + N:], J[M + N:, :])
 
 
 @jitable
@@ -215,7 +268,8 @@ def spatial_jacobian_given(kin, y, J, p):
     asperity contact of each pair of faces (:func:`~lubelink.link.faces.face_jacobian` on its block) and the
     compliant contact of a contact phase on its block and the axial force's geometric stiffness on both bending
     blocks (``beam.axial_force``), divided by the modal mass (the free axial end's couplings of ``p.spatial.axial``
-    in the frame's terms).
+    in the frame's terms); then the bending rows turned into those with the chord's rotation
+    (:func:`~lubelink.link.axial.frame_chord_rotation_jacobian`).
     """
     N = p.basis.modes
     M = 3 * N
@@ -235,6 +289,7 @@ def spatial_jacobian_given(kin, y, J, p):
     spatial.oscillator_jacobian(p.spatial.W, p.beam.damping_ratio, kin.omega, kin.alpha, Jq, Jv, p.spatial.axial)
     for i in range(M):
         J[i, M + i] = 1.0
+    _spatial_chord_jacobian(p.geometric, kin, y, J, p)
 
 
 @jitable
