@@ -315,6 +315,28 @@ def test_ctrl_c_at_any_moment_of_the_start_is_one_line_and_130(tmp_path, delay):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("interrupt", [True, False])
+def test_ctrl_c_that_surfaces_as_another_exception_is_still_an_interruption(interrupt):
+    """A Ctrl-C inside the interpreter's import machinery can surface as another exception (CI saw
+    ``TypeError: expected a message argument`` from SciPy's import at 0.15 s): one line and 130. The same
+    exception without a Ctrl-C is a bug and keeps its traceback."""
+    code = ("import os, signal, time\n"
+            "import lubelink.cli as cli\n"
+            "def main():\n"
+            "    try:\n"
+            f"        {'os.kill(os.getpid(), signal.SIGINT)' if interrupt else 'raise KeyboardInterrupt'}\n"
+            "        time.sleep(10)\n"
+            "    except KeyboardInterrupt:\n"
+            "        raise TypeError('expected a message argument') from None\n"
+            "cli.main = main\n"
+            "cli.console()\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    if interrupt:
+        assert r.returncode == 130 and r.stderr == "lubelink: interrupted\n", r.stderr
+    else:
+        assert r.returncode == 1 and "Traceback" in r.stderr and "TypeError: expected a message" in r.stderr
+
+
 @pytest.mark.parametrize("umask", [0o002, 0o022, 0o077])
 def test_results_files_honour_the_umask(tmp_path, umask):
     import os

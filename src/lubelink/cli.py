@@ -14,7 +14,8 @@ from pathlib import Path
 
 from .cli_io import _load_results, is_results_file, resolve_args
 from .cli_io import write_results as _write_results
-from .errors import BackendError, ConfigError, Terminated, UsageError, exit_status, interrupted
+from .errors import (BackendError, ConfigError, Terminated, UsageError, catch_interrupts, exit_status, interrupted,
+                     was_interrupted)
 
 __all__ = ["main", "resolve_args", "UsageError"]
 
@@ -295,11 +296,17 @@ def console():
     import os
 
     gc.set_threshold(20_000, 50, 1_000)
+    catch_interrupts()
     try:
         status = main()
     except KeyboardInterrupt as exc:  # before main's own handler: loading the libraries, parsing
         print(f"lubelink: {interrupted(exc)}", file=sys.stderr)
         status = exit_status(exc)
+    except Exception:
+        if not was_interrupted():
+            raise
+        print("lubelink: interrupted", file=sys.stderr)  # (Ctrl-C inside an import: see catch_interrupts)
+        status = 130
     getattr(atexit, "_run_exitfuncs", lambda: None)()  # (public in effect: what the interpreter runs at exit)
     for stream in (sys.stdout, sys.stderr):
         try:

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import difflib
 
-__all__ = ["ConfigError", "UsageError", "BackendError", "Terminated", "suggest", "exit_status", "interrupted"]
+__all__ = ["ConfigError", "UsageError", "BackendError", "Terminated", "suggest", "exit_status", "interrupted",
+           "catch_interrupts", "was_interrupted"]
 
 
 class ConfigError(ValueError):
@@ -37,6 +38,35 @@ class Terminated(KeyboardInterrupt):
     def __init__(self, signum):
         super().__init__(signum)
         self.signum = int(signum)
+
+
+#: The Ctrl-C signals this process received since :func:`catch_interrupts`.
+_INTERRUPTS: list = []
+
+
+def catch_interrupts():
+    """Let Ctrl-C raise ``KeyboardInterrupt`` as Python's own handler does, and remember that it came
+    (:func:`was_interrupted`); nothing changes where SIGINT is not Python's default handler.
+
+    A Ctrl-C that lands inside the interpreter's import machinery can surface as another exception:
+    ``TypeError: expected a message argument`` was seen while SciPy's import looked for an optional
+    module. The command line then still reports an interruption, not that exception.
+    """
+    import signal
+
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        return
+
+    def handler(signum, frame):
+        _INTERRUPTS.append(signum)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, handler)
+
+
+def was_interrupted() -> bool:
+    """Whether Ctrl-C came since :func:`catch_interrupts`."""
+    return bool(_INTERRUPTS)
 
 
 def exit_status(exc) -> int:
