@@ -80,10 +80,21 @@ def _state(phi, phi_dot, phi_ddot, m: Mechanism):
     return crank_state(phi, phi_dot, phi_ddot, m.crank_length, m.rod_length, m.guide_distance)
 
 
+def _unit(phi, m: Mechanism):
+    """:func:`crank_state` at zero speed and unit crank acceleration: each acceleration is then the
+    velocity of its quantity per unit crank speed (its velocity coefficient)."""
+    return _state(phi, 0.0, 1.0, m)
+
+
+def _slider_rate(unit, rod_length):
+    """``dX_C/dphi`` [m]: the slider's velocity per unit crank speed, from the velocity coefficients ``unit``."""
+    theta, _, g1, g2, _, g_w, *_, c = unit
+    return c * g1 + np.sin(theta) * (g2 + g_w * rod_length)
+
+
 def slider_velocity(phi, phi_dot, m: Mechanism):
     """Velocity of the slider C along +X [m/s] at crank angle ``phi`` [rad] and speed ``phi_dot`` [rad/s]."""
-    theta, _, g1, g2, _, g_w, *_ = _state(phi, 0.0, 1.0, m)
-    return (np.cos(theta) * g1 + np.sin(theta) * (g2 + g_w * m.rod_length)) * phi_dot
+    return _slider_rate(_unit(phi, m), m.rod_length) * phi_dot
 
 
 def inertia_torque(phi, phi_dot, phi_ddot, m: Mechanism, masses: RigidMasses):
@@ -93,19 +104,25 @@ def inertia_torque(phi, phi_dot, phi_ddot, m: Mechanism, masses: RigidMasses):
     (the link: its force and its moment about O). ``phi`` [rad], ``phi_dot`` [rad/s], ``phi_ddot``
     [rad/s^2]; elementwise on arrays.
     """
+    return _inertia_torque(_state(phi, phi_dot, phi_ddot, m), _unit(phi, m), phi_ddot, m, masses)
+
+
+def _inertia_torque(moving, unit, phi_ddot, m: Mechanism, masses: RigidMasses):
+    """:func:`inertia_torque` from :func:`crank_state` at the motion (``moving``) and :func:`_unit`."""
     L = m.rod_length
-    theta, _, A1, A2, w, al, _, _, _, Y_dd, c = _state(phi, phi_dot, phi_ddot, m)
-    _, _, g1, g2, _, g_w, _, _, _, g_Y, _ = _state(phi, 0.0, 1.0, m)
+    theta, _, A1, A2, w, al, _, _, _, Y_dd, c = moving
+    _, _, g1, g2, _, g_w, _, _, _, g_Y, _ = unit
     s = np.sin(theta)
     mass, S, I_O = masses.link_mass, masses.link_first, masses.link_second
     link = (mass * A1 - S * w * w) * g1 + (mass * A2 + S * al) * g2 + (S * A2 + I_O * al) * g_w
-    slider = masses.slider * (c * (A1 - w * w * L) + s * (A2 + al * L)) * (c * g1 + s * (g2 + g_w * L))
+    slider = masses.slider * (c * (A1 - w * w * L) + s * (A2 + al * L)) * _slider_rate(unit, L)
     return masses.flywheel * phi_ddot + link + slider + masses.collar * Y_dd * g_Y
 
 
 def generalised_inertia(phi, m: Mechanism, masses: RigidMasses):
     """``M(phi)`` [kg m^2]: the rigid mechanism's inertia about the crank angle ``phi`` [rad] (kinetic energy ``M phi_dot^2 / 2``)."""
-    return inertia_torque(phi, 0.0, 1.0, m, masses)
+    unit = _unit(phi, m)
+    return _inertia_torque(unit, unit, 1.0, m, masses)
 
 
 def velocity_torque(phi, phi_dot, m: Mechanism, masses: RigidMasses):
@@ -124,7 +141,11 @@ def slider_torque(phi, phi_dot, m: Mechanism, drive: Drive):
     The constant force ``drive.slider_force`` along +X and the Coulomb friction ``drive.slider_friction``
     against the slider's velocity: ``(F_s - F_f sign(X_C_dot)) dX_C/dphi``. ``phi`` [rad], ``phi_dot`` [rad/s].
     """
-    g_X = slider_velocity(phi, 1.0, m)
+    return _slider_torque(_unit(phi, m), phi_dot, m, drive)
+
+
+def _slider_torque(unit, phi_dot, m: Mechanism, drive: Drive):
+    g_X = _slider_rate(unit, m.rod_length)
     return drive.slider_force * g_X - drive.slider_friction * np.abs(g_X) * np.sign(phi_dot)
 
 
@@ -133,14 +154,18 @@ def gravity_torque(phi, m: Mechanism, masses: RigidMasses):
 
     The crank and flywheel are taken balanced (their centre of mass on the crank axis).
     """
+    return _gravity_torque(_unit(phi, m), m, masses)
+
+
+def _gravity_torque(unit, m: Mechanism, masses: RigidMasses):
     gX, gY = masses.gravity
+    theta, _, g1, g2, _, g_w, _, _, _, g_Y, c = unit
     if gX == 0.0 and gY == 0.0:
-        return 0.0 * np.asarray(phi, dtype=float)
-    theta, _, g1, g2, _, g_w, _, _, _, g_Y, c = _state(phi, 0.0, 1.0, m)
+        return 0.0 * np.asarray(theta, dtype=float)
     s = np.sin(theta)
     g_i, g_j = gX * c - gY * s, gX * s + gY * c  # gravity along the link's i and j
     link = masses.link_mass * (g_i * g1 + g_j * g2) + masses.link_first * g_j * g_w
-    return link + masses.slider * gX * (c * g1 + s * (g2 + g_w * m.rod_length)) + masses.collar * gY * g_Y
+    return link + masses.slider * gX * _slider_rate(unit, m.rod_length) + masses.collar * gY * g_Y
 
 
 def motor_torque(phi_dot, error_integral, drive: Drive, set_speed):
@@ -162,9 +187,10 @@ def crank_rates(t, y, config: Config, masses: RigidMasses):
     """Right-hand side of the crank's equation: ``y = (phi [rad], phi_dot [rad/s], int e dt [rad])`` -> rates."""
     phi, phi_dot, z = y
     m, d = config.mechanism, config.drive
-    load = (motor_torque(phi_dot, z, d, m.crank_speed) + slider_torque(phi, phi_dot, m, d)
-            + gravity_torque(phi, m, masses) - velocity_torque(phi, phi_dot, m, masses))
-    return np.array([phi_dot, load / generalised_inertia(phi, m, masses), m.crank_speed - phi_dot])
+    unit = _unit(phi, m)  # (once: every term below reads the velocity coefficients)
+    load = (motor_torque(phi_dot, z, d, m.crank_speed) + _slider_torque(unit, phi_dot, m, d)
+            + _gravity_torque(unit, m, masses) - _inertia_torque(_state(phi, phi_dot, 0.0, m), unit, 0.0, m, masses))
+    return np.array([phi_dot, load / _inertia_torque(unit, unit, 1.0, m, masses), m.crank_speed - phi_dot])
 
 
 @dataclass(frozen=True)
@@ -242,7 +268,7 @@ def elastic_torque(phi, phi_dot, phi_ddot, q, q_dot, q_ddot, m: Mechanism, inert
     Positive: it would speed the crank up.
     """
     _, _, A1, _, w, al, *_ = _state(phi, phi_dot, phi_ddot, m)
-    _, _, g1, g2, _, g_w, *_ = _state(phi, 0.0, 1.0, m)
+    _, _, g1, g2, _, g_w, *_ = _unit(phi, m)
     U, U_dot, U_ddot = q @ inertia.modal, q_dot @ inertia.modal, q_ddot @ inertia.modal
     P_i = -al * U - 2.0 * w * U_dot
     P_j = -w * w * U + U_ddot
