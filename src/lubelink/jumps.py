@@ -27,7 +27,7 @@ from .beam import wavenumbers
 from .link.kinematics import collar_acceleration
 
 __all__ = ["EventTerms", "approach_jacobian", "restitution_jacobian", "restitution_terms",
-           "restitution_terms_by_differences", "fields", "event_rate", "collar_acceleration_at", "unsupported",
+           "restitution_terms_by_differences", "central_differences", "fields", "event_rate", "collar_acceleration_at", "unsupported",
            "REL_STEP"]
 
 #: Relative step of the central differences (of the state's scale; of the time scale ``T / 2 pi``).
@@ -184,6 +184,19 @@ def restitution_terms(model, t, y_minus, y_plus, scale, time_scale, restitution=
     return EventTerms(DR, np.concatenate([np.zeros(N), dt]), gradient, event_rate(model, t, y_minus), f_minus, f_plus)
 
 
+def central_differences(f, t, y, steps, tau):
+    """``(df/dy, df/dt)`` of ``f(t, y)`` (a 1-D array) by central differences: column ``j`` with the step
+    ``steps[j]`` in ``y[j]``, the time derivative with the step ``tau`` [s]."""
+    y = np.asarray(y, dtype=float)
+    n = y.size
+    D = np.empty((np.size(f(t, y)), n))
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = steps[j]
+        D[:, j] = (f(t, y + e) - f(t, y - e)) / (2.0 * steps[j])
+    return D, (f(t + tau, y) - f(t - tau, y)) / (2.0 * tau)
+
+
 def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scale, restitution=None, phase=None):
     """:class:`EventTerms` with ``DR``, ``dR/dt`` and ``grad g`` by central differences of the model's
     :meth:`~lubelink.assembly.Model.impact` and gap (any model: planar or spatial, any section)."""
@@ -192,20 +205,11 @@ def restitution_terms_by_differences(model, t, y_minus, y_plus, scale, time_scal
     steps = REL_STEP * np.asarray(scale, dtype=float)
     tau = REL_STEP * time_scale
 
-    def reset(t_, y):
-        return model.impact(t_, y, restitution=restitution)[0]
+    def reset_and_gap(t_, y):
+        return np.append(model.impact(t_, y, restitution=restitution)[0], model.gap(t_, model.to_state(y)))
 
-    def gap(y):
-        return model.gap(t, model.to_state(y))
-
-    DR = np.empty((n, n))
-    gradient = np.empty(n)
-    for j in range(n):
-        e = np.zeros(n)
-        e[j] = steps[j]
-        DR[:, j] = (reset(t, y_minus + e) - reset(t, y_minus - e)) / (2.0 * steps[j])
-        gradient[j] = (gap(y_minus + e) - gap(y_minus - e)) / (2.0 * steps[j])
-    reset_rate = (reset(t + tau, y_minus) - reset(t - tau, y_minus)) / (2.0 * tau)
+    D, rates = central_differences(reset_and_gap, t, y_minus, steps, tau)
+    DR, gradient, reset_rate = D[:n], D[n], rates[:n]
     f_minus, f_plus = fields(model, t, y_minus, y_plus, phase)
     return EventTerms(DR, reset_rate, gradient, event_rate(model, t, y_minus), f_minus, f_plus)
 

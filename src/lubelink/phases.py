@@ -45,8 +45,8 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from .beam import wavenumbers
-from .jumps import (REL_STEP, EventTerms, approach_jacobian, collar_acceleration_at, event_rate, fields,
-                    restitution_terms)
+from .jumps import (REL_STEP, EventTerms, approach_jacobian, central_differences, collar_acceleration_at, event_rate,
+                    fields, restitution_terms)
 
 __all__ = ["Parameter", "Event", "period_events", "compliant_start", "sustained_start", "augmented", "STEP_INVERSE",
            "STEP_POINT"]
@@ -126,12 +126,7 @@ def _entry(model, t, y, scale, time_scale):
         return np.array([model.approach(t_, y_)[0], model.thinnest_film(t_, y_)[1],
                          model.gap(t_, model.to_state(y_))])
 
-    D = np.empty((3, n))
-    for j in range(n):
-        e = np.zeros(n)
-        e[j] = steps[j]
-        D[:, j] = (pieces(t, y + e) - pieces(t, y - e)) / (2.0 * steps[j])
-    rates = (pieces(t + tau, y) - pieces(t - tau, y)) / (2.0 * tau)
+    D, rates = central_differences(pieces, t, y, steps, tau)
     v = model.approach(t, y)[0]
     return v, D[0], rates[0], x_c, (np.zeros(n) if edge else D[1]), rates[1] if edge else 0.0, edge, side, D[2]
 
