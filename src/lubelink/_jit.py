@@ -47,7 +47,7 @@ try:
     if os.environ.get("LUBELINK_DISABLE_JIT", "") not in ("", "0"):
         raise ImportError("LUBELINK_DISABLE_JIT is set")
     import numba
-    from numba.core.errors import NumbaIRAssumptionWarning
+    from numba.core.errors import NumbaExperimentalFeatureWarning, NumbaIRAssumptionWarning
     from numba.extending import register_jitable
 except ImportError as exc:  # pragma: no cover - exercised by the no-Numba CI-less fallback
     numba = None
@@ -56,6 +56,8 @@ else:
     _WHY = ""
     # Numba's pedantic SSA check flags variables of inlined functions ("not in scope"): harmless
     warnings.filterwarnings("ignore", category=NumbaIRAssumptionWarning)
+    # the integrators take the right-hand side as a first-class function on purpose (integrate/driver.py)
+    warnings.filterwarnings("ignore", category=NumbaExperimentalFeatureWarning)
 
 #: Whether kernels are compiled (Numba importable and not disabled).
 ENABLED = numba is not None
