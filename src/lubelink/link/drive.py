@@ -19,8 +19,9 @@ phi_dot, 0)``. The equation is integrated by SciPy's ``solve_ivp`` (DOP853, dens
 run; :func:`driven_motion` samples ``phi``, ``phi_dot``, ``phi_ddot`` into a
 :func:`~lubelink.link.kinematics.sampled_motion`, the prescribed rigid motion of the elastic link.
 
-The coupling is one-way: the link's elastic forces do not act back on the crank
-(:func:`elastic_torque` measures what is left out).
+By itself the coupling is one-way: the link's elastic forces do not act back on the crank. The crank's
+equation takes a further torque of time (``torque``: :func:`integrate_crank`, :func:`driven_motion`), through
+which :mod:`lubelink.coupling` feeds the link's :func:`elastic_torque` back (``drive.coupling = "two-way"``).
 """
 
 from __future__ import annotations
@@ -183,47 +184,55 @@ def motor_torque(phi_dot, error_integral, drive: Drive, set_speed):
     raise ValueError(f"drive.law = {drive.law!r}: the crank speed is prescribed, there is no motor torque")
 
 
-def crank_rates(t, y, config: Config, masses: RigidMasses):
-    """Right-hand side of the crank's equation: ``y = (phi [rad], phi_dot [rad/s], int e dt [rad])`` -> rates."""
+def crank_rates(t, y, config: Config, masses: RigidMasses, torque=None):
+    """Right-hand side of the crank's equation: ``y = (phi [rad], phi_dot [rad/s], int e dt [rad])`` -> rates.
+
+    ``torque``: a further torque on the crank about +k [N m], a callable of the time ``t`` [s] (None: none).
+    """
     phi, phi_dot, z = y
     m, d = config.mechanism, config.drive
     unit = _unit(phi, m)  # (once: every term below reads the velocity coefficients)
     load = (motor_torque(phi_dot, z, d, m.crank_speed) + _slider_torque(unit, phi_dot, m, d)
             + _gravity_torque(unit, m, masses) - _inertia_torque(_state(phi, phi_dot, 0.0, m), unit, 0.0, m, masses))
+    if torque is not None:
+        load = load + torque(t)
     return np.array([phi_dot, load / _inertia_torque(unit, unit, 1.0, m, masses), m.crank_speed - phi_dot])
 
 
 @dataclass(frozen=True)
 class CrankSolution:
-    """The integrated crank motion: ``solution`` SciPy's ``OdeSolution`` of ``(phi, phi_dot, int e dt)``."""
+    """The integrated crank motion: ``solution`` SciPy's ``OdeSolution`` of ``(phi, phi_dot, int e dt)``;
+    ``torque`` the further torque of time it was integrated with (:func:`crank_rates`)."""
 
     solution: object
     config: Config
     masses: RigidMasses
     nfev: int
+    torque: object = None
 
     def __call__(self, t):
         """``(phi [rad], phi_dot [rad/s], phi_ddot [rad/s^2], motor torque [N m])`` at times ``t`` [s]."""
         t = np.asarray(t, dtype=float)
         phi, phi_dot, z = self.solution(t)
         m = self.config.mechanism
-        phi_ddot = crank_rates(t, (phi, phi_dot, z), self.config, self.masses)[1]
+        phi_ddot = crank_rates(t, (phi, phi_dot, z), self.config, self.masses, self.torque)[1]
         return phi, phi_dot, phi_ddot, motor_torque(phi_dot, z, self.config.drive, m.crank_speed)
 
 
-def integrate_crank(config: Config, t_end, masses: RigidMasses | None = None, rtol=1e-11, atol=1e-12):
+def integrate_crank(config: Config, t_end, masses: RigidMasses | None = None, rtol=1e-11, atol=1e-12, torque=None):
     """Integrate the crank's equation from ``phi = 0``, ``phi_dot = mechanism.crank_speed`` over ``[0, t_end]`` [s].
 
-    SciPy's DOP853 with dense output at tolerances ``rtol``, ``atol`` (a 3-state ODE, off the hot path).
+    SciPy's DOP853 with dense output at tolerances ``rtol``, ``atol`` (a 3-state ODE, off the hot path);
+    ``torque``: a further torque of time on the crank (:func:`crank_rates`).
     """
     from scipy.integrate import solve_ivp
 
     masses = rigid_masses(config) if masses is None else masses
     sol = solve_ivp(crank_rates, (0.0, float(t_end)), [0.0, config.mechanism.crank_speed, 0.0], method="DOP853",
-                    rtol=rtol, atol=atol, dense_output=True, args=(config, masses))
+                    rtol=rtol, atol=atol, dense_output=True, args=(config, masses, torque))
     if not sol.success:
         raise RuntimeError(f"the crank's equation (drive.law = {config.drive.law!r}) failed: {sol.message}")
-    return CrankSolution(sol.sol, config, masses, int(sol.nfev))
+    return CrankSolution(sol.sol, config, masses, int(sol.nfev), torque)
 
 
 @dataclass(frozen=True, eq=False)
@@ -237,16 +246,17 @@ class DrivenMotion(SampledMotion):
 SAMPLES_PER_TURN = 512
 
 
-def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TURN) -> DrivenMotion:
+def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TURN, torque=None) -> DrivenMotion:
     """The link's rigid motion under the driven crank, for ``config.solver.t_end`` (and a turn beyond).
 
     ``crank_state`` at the integrated ``phi``, ``phi_dot``, ``phi_ddot``, sampled ``samples_per_turn``
-    times a turn at the run's fastest crank speed and interpolated by C2 cubic splines.
+    times a turn at the run's fastest crank speed and interpolated by C2 cubic splines. ``torque``: a further
+    torque of time on the crank (:func:`crank_rates`; the two-way coupling's, :mod:`lubelink.coupling`).
     """
     masses = rigid_masses(config, section)
     m = config.mechanism
     margin = 2.0 * np.pi / abs(m.crank_speed)
-    crank = integrate_crank(config, config.solver.t_end + margin, masses)
+    crank = integrate_crank(config, config.solver.t_end + margin, masses, torque=torque)
     t_grid = crank.solution.ts
     fastest = max(float(np.max(np.abs(crank.solution(t_grid)[1]))), 1e-3 * abs(m.crank_speed))
     step = 2.0 * np.pi / fastest / samples_per_turn
