@@ -28,7 +28,7 @@ MAX_ITERATIONS = 8
 
 #: The relaxation stops where the crank speed changes by at most this times ``solver.rtol`` times its
 #: largest value (:func:`tolerance`).
-TOLERANCE_FACTOR = 1.0
+TOLERANCE_FACTOR = 100.0
 
 
 class CouplingError(RuntimeError):
