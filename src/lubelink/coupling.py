@@ -63,6 +63,8 @@ class ElasticTorque:
         self._spline = CubicSpline(self.t, self.torque)
 
     def __call__(self, t):
+        if np.ndim(t) == 0:  # (the crank's integrator asks one time at a time)
+            return float(self._spline(t)) if self.t[0] <= t <= self.t[-1] else 0.0
         t = np.asarray(t, dtype=float)
         inside = (t >= self.t[0]) & (t <= self.t[-1])
         return np.where(inside, self._spline(np.clip(t, self.t[0], self.t[-1])), 0.0)
