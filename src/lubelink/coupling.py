@@ -16,9 +16,15 @@ one-way run; its cost is the number of link runs times that of one.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from .derived import modal_accelerations
+from .link.drive import driven_motion, elastic_torque
+from .link.reactions import link_inertia
+from .link.section import taper
 
 __all__ = ["MAX_ITERATIONS", "TOLERANCE_FACTOR", "CouplingError", "Coupling", "ElasticTorque", "tolerance",
            "run_torque", "relax"]
@@ -79,11 +85,6 @@ def tolerance(config, speed) -> float:
 def run_torque(result):
     """``(t [s], torque [N m])``: the elastic torque on the crank of a link run (a :class:`~lubelink.results.Run`
     of a driven motion) at its samples, from its sine-mode states and their accelerations."""
-    from .derived import modal_accelerations
-    from .link.drive import elastic_torque
-    from .link.reactions import link_inertia
-    from .link.section import taper
-
     model = result.model
     cfg, N = model.config, model.modes
     L = cfg.mechanism.rod_length
@@ -123,10 +124,6 @@ def relax(config, run_link, section=None, motion=None, max_iterations=MAX_ITERAT
     CouplingError
         Where the crank speed still changes by more than :func:`tolerance` after ``max_iterations`` runs.
     """
-    import time
-
-    from .link.drive import driven_motion
-
     start = time.perf_counter()
     motion = driven_motion(config, section) if motion is None else motion
     record = Coupling(crank_time=time.perf_counter() - start)

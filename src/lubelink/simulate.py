@@ -15,6 +15,7 @@ import numpy as np
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
+from .coupling import relax
 from ._jit import compile_errors
 from ._prewarm import announcing, first_run
 from .assembly import compile_failed
@@ -154,8 +155,6 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         relaxation (:func:`lubelink.coupling.relax`), ``coupling`` its record.
     """
     if config.drive.coupling == "two-way" and motion is None:
-        from .coupling import relax
-
         first = None if model is None else model.motion
 
         def once(driven):
