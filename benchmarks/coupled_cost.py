@@ -4,7 +4,8 @@ prescribed speed, and what the coupling changes: the crank speed's fluctuation, 
     PYTHONPATH=src python benchmarks/coupled_cost.py [scenario ...]
 
 Each configuration is run once to compile and load, then timed (best of ``REPEATS``). The drive: a constant
-motor torque, a flywheel of ``J_f``, a slider of ``m_s``; ``solver.t_end`` of the scenario.
+motor torque, a flywheel of ``J_f``, a slider of ``m_s`` (a driven scenario, ``driven-piston``: its own drive, one
+way and two ways); ``solver.t_end`` of the scenario.
 """
 
 import sys
@@ -45,6 +46,8 @@ def main(cases):
           f"{'fluct.':>9}{'1st change':>12}{'contraction':>13}")
     for scenario, sets in cases:
         rows = {"speed": {}, "one-way": DRIVE, "two-way": {**DRIVE, "drive.coupling": "two-way"}}
+        if not resolve(scenario).drive.prescribed:  # a driven scenario: its own drive, one way and two ways
+            rows = {"one-way": {"drive.coupling": "one-way"}, "two-way": {"drive.coupling": "two-way"}}
         base = None
         for name, extra in rows.items():
             cost, result = timed(resolve(scenario, {**sets, **extra}))
@@ -60,5 +63,5 @@ def main(cases):
 
 
 if __name__ == "__main__":
-    names = sys.argv[1:] or ["paper-dry", "paper"]
+    names = sys.argv[1:] or ["paper-dry", "paper", "driven-piston"]
     main([(n, {}) for n in names] + ([("paper-dry", {"beam.modes": 5})] if not sys.argv[1:] else []))
