@@ -12,7 +12,9 @@ constraints, ``--step`` (default 1e-4 s), ``--elements`` (default 8).
 
 Printed: the largest difference of the crank speed and of ``u2_mid`` between lubelink (one-way, two-way) and
 Exudyn over ``--t-end`` (default 1 s), and Exudyn's own change when its step is halved and its mesh doubled
-(``--no-convergence`` skips it).
+(``--no-convergence`` skips it); then a table of the prescribed speed (KED), the one-way and two-way driven
+crank and Exudyn: peak ``|u2_mid|``, the crank speed's fluctuation ``(max - min) / mean`` and the wall time
+(lubelink: ``simulate`` warm, the second of two calls; Exudyn: its ``SolveDynamic`` call).
 
     python -m venv /tmp/exuenv && /tmp/exuenv/bin/pip install exudyn==1.13.6 numpy   # once
     PYTHONPATH=src python benchmarks/exudyn_coupled.py [--exudyn-python /tmp/exuenv/bin/python]
@@ -92,12 +94,16 @@ def worker(out, elements, step, flywheel, t_end):
 
     if elements % 2:
         raise ValueError("an even number of elements puts a node at the midpoint")
+    import time
+
     mbs, settings, sensors = build_exudyn(exu, elements, step, flywheel, t_end)
+    start = time.perf_counter()
     if not mbs.SolveDynamic(settings):
         sys.exit(f"Exudyn: SolveDynamic failed ({elements} elements, h = {step})")
+    solve = time.perf_counter() - start
     data = [mbs.GetSensorStoredData(s) for s in sensors]
     np.savez(out, t=data[0][:, 0], u2_mid=midpoint_deflection(*(d[:, 1:3] for d in data[:3])),
-             speed=data[3][:, 3], version=exu.__version__)
+             speed=data[3][:, 3], solve=solve, version=exu.__version__)
 
 
 # --------------------------------------------------------------------------- driver (lubelink's interpreter)
@@ -142,17 +148,34 @@ def main():
     ref = run_exudyn(args.exudyn_python, args.elements, args.step, args.flywheel, args.t_end)
     print(f"Exudyn {ref['version']}: {args.elements} elements, h = {args.step:g} s; J_f = {args.flywheel} kg m^2, "
           f"{args.modes} modes, 0-{args.t_end} s")
+    import time
+
     peak = np.abs(ref["u2_mid"]).max()
+    table = []
+    base = {"beam.modes": args.modes, "solver.t_end": args.t_end}
+    ds = lubelink.simulate("paper-dry", base)
+    start = time.perf_counter()
+    ds = lubelink.simulate("paper-dry", base)
+    table.append(("prescribed speed (KED)", np.abs(ds.u2_mid.values).max(), 0.0, time.perf_counter() - start))
     for coupling in ("one-way", "two-way"):
-        ds = lubelink.simulate("paper-dry", {"beam.modes": args.modes, "drive.law": "torque",
-                                             "drive.flywheel_inertia": args.flywheel, "drive.coupling": coupling,
-                                             "solver.t_end": args.t_end})
+        sets = {**base, "drive.law": "torque", "drive.flywheel_inertia": args.flywheel, "drive.coupling": coupling}
+        lubelink.simulate("paper-dry", sets)
+        start = time.perf_counter()
+        ds = lubelink.simulate("paper-dry", sets)
+        w = ds.crank_speed.values
+        table.append((f"driven, {coupling}", np.abs(ds.u2_mid.values).max(), np.ptp(w) / np.mean(w),
+                      time.perf_counter() - start))
         t = ds.time.values
         speed = np.interp(t, ref["t"], ref["speed"])
         u2 = np.interp(t, ref["t"], ref["u2_mid"])
         print(f"  lubelink {coupling}: crank speed differs by {np.abs(ds.crank_speed.values - speed).max():.3g} rad/s, "
               f"u2_mid by {np.abs(ds.u2_mid.values - u2).max() * 1e6:.3g} um ({np.abs(ds.u2_mid.values - u2).max() / peak:.2%} "
               f"of {peak * 1e3:.3g} mm)")
+    w = ref["speed"]
+    table.append((f"Exudyn, {args.elements} ANCF elements", peak, np.ptp(w) / np.mean(w), float(ref["solve"])))
+    print(f"{'model':<28}{'peak |u2_mid| mm':>18}{'fluctuation':>13}{'wall s':>9}")
+    for name, u, f, wall in table:
+        print(f"{name:<28}{u * 1e3:>18.4f}{f:>13.4f}{wall:>9.3f}")
     if not args.no_convergence:
         fine = run_exudyn(args.exudyn_python, 2 * args.elements, args.step / 2, args.flywheel, args.t_end)
         t = ref["t"]

@@ -86,6 +86,9 @@ def test_results_record_the_relaxation():
     assert ds.attrs["status"] == "complete"
     assert ds.attrs["coupling_runs"] >= 2 and ds.attrs["coupling_change_units"] == "rad s-1"
     assert ds.attrs["coupling_change"] <= 100 * 1e-6 * np.abs(ds["crank_speed"].values).max()
+    from lubelink.summary import summary
+
+    assert "coupling       two-way, " in str(summary(ds, "paper-dry", None, None))
 
 
 def test_relaxation_that_does_not_converge_is_refused():
