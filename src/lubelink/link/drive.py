@@ -296,17 +296,19 @@ class DrivenMotion(SampledMotion):
 SAMPLES_PER_TURN = 512
 
 
-def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TURN, torque=None) -> DrivenMotion:
+def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TURN, torque=None,
+                  rtol=1e-11) -> DrivenMotion:
     """The link's rigid motion under the driven crank, for ``config.solver.t_end`` (and a turn beyond).
 
     ``crank_state`` at the integrated ``phi``, ``phi_dot``, ``phi_ddot``, sampled ``samples_per_turn``
     times a turn at the run's fastest crank speed and interpolated by C2 cubic splines. ``torque``: a further
-    torque of time on the crank (:func:`crank_rates`; the two-way coupling's, :mod:`lubelink.coupling`).
+    torque of time on the crank (:func:`crank_rates`; the two-way coupling's, :mod:`lubelink.coupling`);
+    ``rtol``: the crank's integration tolerance (:func:`integrate_crank`, ``atol = rtol / 10``).
     """
     masses = rigid_masses(config, section)
     m = config.mechanism
     margin = 2.0 * np.pi / abs(m.crank_speed)
-    crank = integrate_crank(config, config.solver.t_end + margin, masses, torque=torque)
+    crank = integrate_crank(config, config.solver.t_end + margin, masses, rtol, 0.1 * rtol, torque=torque)
     t_grid = crank.solution.ts
     fastest = max(float(np.max(np.abs(crank.solution(t_grid)[1]))), 1e-3 * abs(m.crank_speed))
     step = 2.0 * np.pi / fastest / samples_per_turn
