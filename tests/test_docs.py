@@ -98,7 +98,7 @@ def test_functions_named_in_model_md_exist():
         if "." not in key and key in fields:
             continue  # a configuration key, e.g. film.cavitation
         if section not in {"beam", "film", "link", "contact", "compliant", "energy", "assembly", "simulate", "results",
-                           "integrate", "params", "paper", "estimate", "_jit", "choice", "derived"}:
+                           "integrate", "params", "paper", "estimate", "_jit", "choice", "derived", "coupling"}:
             continue
         assert callable(_resolve(name)) or isinstance(_resolve(name), type), name
         checked.append(name)

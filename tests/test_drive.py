@@ -253,3 +253,25 @@ def test_controller_holds_the_set_speed():
     phi, phi_dot, _, torque = sol(t)
     assert abs(np.mean(phi_dot) - w0) < 2e-3 * w0
     assert abs(np.mean(torque) - 2 * 30.0 * c.mechanism.crank_length / np.pi) < 0.02 * np.mean(torque)
+
+
+def test_tabulated_rates_match_the_crank_equation():
+    """:class:`drive.TabulatedRates` (the integrator's right-hand side) against :func:`drive.crank_rates` at random
+    states, with gravity, a collar, the slider's force and friction (whose torque has kinks at the dead centres)
+    and a further torque: to 1e-11 of the acceleration's scale (the splines' error, ~1e-14 of each term)."""
+    c = resolve("paper-dry", {"drive.law": "controller", "drive.slider_mass": 0.4, "drive.slider_friction": 20.0,
+                              "drive.slider_force": 15.0, "mechanism.gravity": [3.0, -9.81], "collar.mass": 0.3})
+    ms = drive.rigid_masses(c)
+
+    def torque(t):
+        return 0.3 * np.sin(150.0 * t)
+
+    tab = drive.TabulatedRates(c, ms, torque)
+    rng = np.random.default_rng(2)
+    states = [(rng.uniform(0, 2), [rng.uniform(-20, 20), rng.choice([-1, 1]) * rng.uniform(5, 40), rng.normal()])
+              for _ in range(500)]
+    exact = np.array([drive.crank_rates(t, y, c, ms, torque) for t, y in states])
+    got = np.array([tab(t, y) for t, y in states])
+    scale = np.abs(exact[:, 1]).max()
+    assert np.allclose(got[:, 1], exact[:, 1], rtol=0, atol=1e-11 * scale)
+    assert np.array_equal(got[:, [0, 2]], exact[:, [0, 2]])

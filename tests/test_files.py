@@ -174,6 +174,7 @@ NOT_PUBLISHED = {
     ("benchmarks/exudyn_rod.py", "savez"): "a worker's answer in a private temporary folder (its interpreter has "
                                           "no lubelink)",
     ("benchmarks/exudyn_frequency.py", "savez"): "the same, for the frequency set-ups",
+    ("benchmarks/exudyn_coupled.py", "savez"): "the same, for the coupled crank and link",
     ("src/lubelink/sweep/_warm.py", "open"): "an empty file that says the pool's server is ready (its existence "
                                              "is the message)",
     ("benchmarks/bench.py", "write_text"): "the smallest cached kernel's module, in the start section's private "

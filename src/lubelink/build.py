@@ -24,7 +24,7 @@ def build_model(config: Config, motion=None, section=None) -> Model:
     motion : object, optional
         A motion provider (see :mod:`lubelink.link.kinematics`); default: the slider-crank of
         ``config.mechanism`` at its constant speed, or driven (:func:`lubelink.link.drive.driven_motion`)
-        where ``drive.law`` is not ``"speed"``.
+        where ``drive.law`` is not ``"speed"`` (which takes no other motion than a driven one).
     section : lubelink.link.section.Section, optional
         ``A(x)``, ``I(x)`` replacing the beam's (uniform or ``beam.width_ratio``/``height_ratio``
         tapered) section.
@@ -38,7 +38,7 @@ def build_model(config: Config, motion=None, section=None) -> Model:
         from .spatial_assembly import build_spatial_model
 
         return build_spatial_model(config, motion, section)
-    if motion is not None and not config.drive.prescribed:
+    if motion is not None and not config.drive.prescribed and getattr(motion, "crank", None) is None:
         from .validation import ConfigError
 
         raise ConfigError([f"drive.law = {config.drive.law!r}: a driven crank makes its own motion; pass no motion, "

@@ -145,6 +145,22 @@ def reactions_apply(model):
     return ""
 
 
+def modal_accelerations(result, t, y):
+    """``q_ddot`` [m/s^2] ``(T, N)`` of the sine modes at the samples ``t`` of ``result`` (a
+    :class:`~lubelink.results.Run`) with states ``y`` ``(T, 2N)``: its right-hand side, in the contact phase of each
+    sample."""
+    from .link.model import rates_many
+
+    model = result.model
+    rates = _select(rates_many, model.compiled)(t, np.ascontiguousarray(model.to_state(y)), model.params)
+    side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
+    v = result.phase_v if result.phase_v is not None else np.zeros(t.size)
+    point = result.phase_point if result.phase_point is not None else np.zeros(t.size)
+    for i in np.flatnonzero(side):
+        rates[i] = model.rhs(t[i], model.to_state(y[i]), (side[i], v[i], point[i]))
+    return model.to_physical(rates)[:, model.modes:]
+
+
 def joint_reactions(result, t, y, losses, data, thinnest=None):
     """The forces of the crank pin, the slider pin and the collar on the link and the guide's force on the collar's
     member [N] at the samples (:func:`lubelink.link.reactions.joint_reactions`), for the variables of :data:`REACTIONS`.
@@ -157,20 +173,15 @@ def joint_reactions(result, t, y, losses, data, thinnest=None):
     at the samples when the caller has it (computed here where it is needed otherwise).
     """
     from .link.kinematics import motion_at
-    from .link.model import rates_many, thinnest_many
+    from .link.model import thinnest_many
     from .link.reactions import crank_pin_acceleration, joint_reactions as reactions, link_inertia
     from .link.section import taper
 
     model, cfg = result.model, result.model.config
     N, L, m = model.modes, cfg.mechanism.rod_length, cfg.mechanism
     kin = motion_at(t, model.params.motion)  # (its Python source: the slider-crank's closed form, elementwise)
-    rates = _select(rates_many, model.compiled)(t, np.ascontiguousarray(model.to_state(y)), model.params)
+    q_ddot = modal_accelerations(result, t, y)
     side = result.phase_side if result.phase_side is not None else np.zeros(t.size)
-    phase = (side, result.phase_v if result.phase_v is not None else np.zeros(t.size),
-             result.phase_point if result.phase_point is not None else np.zeros(t.size))
-    for i in np.flatnonzero(side):
-        rates[i] = model.rhs(t[i], model.to_state(y[i]), (phase[0][i], phase[1][i], phase[2][i]))
-    q_ddot = model.to_physical(rates)[:, N:]
     sec = result.section or taper(cfg.beam, L)
     normal = kin.reaction * np.ones(t.size)
     moment = normal * kin.x_star
@@ -198,7 +209,7 @@ def joint_reactions(result, t, y, losses, data, thinnest=None):
         else:
             lever[free] = thinnest[free, 1]
         for i in np.flatnonzero(held):
-            lever[i] = model.contact_position(t[i], (phase[0][i], phase[1][i], phase[2][i]))
+            lever[i] = model.contact_position(t[i], (side[i], result.phase_v[i], result.phase_point[i]))
         normal = normal + point_loads
         moment += point_loads * lever
     inertia = (_uniform_inertia(cfg.beam, L, N) if result.section is None

@@ -100,4 +100,6 @@ FIELDS = {
     "drive.slider_mass": ("kg", "m_s", "mass of the slider C"),
     "drive.slider_force": ("N", "F_s", "constant external force on the slider along +X"),
     "drive.slider_friction": ("N", "F_f", "Coulomb friction on the slider, against its velocity"),
+    "drive.coupling": ("", "", "one-way: the link follows the crank; two-way: its elastic motion acts back on the "
+                               "crank, iterated to convergence (docs/model.md section 3.8)"),
 }

@@ -49,6 +49,7 @@ CHOICES = {
     "solver.method": ("auto", "exponential", "exponential-adams", "rodas", "DOP853", "bulirsch-stoer", "RK45", "Radau", "BDF", "LSODA"),
     "solver.backend": ("auto", "numba", "numpy"),
     "drive.law": ("speed", "torque", "torque-speed", "controller"),
+    "drive.coupling": ("one-way", "two-way"),
 }
 
 
@@ -405,8 +406,10 @@ class Drive:
     ``"speed"`` prescribes the constant crank speed ``mechanism.crank_speed`` (the paper's, the
     default). The other laws drive the crank and its flywheel with a motor torque, and the crank
     speed follows from the rigid slider-crank's dynamics (:mod:`lubelink.link.drive`), starting at
-    ``phi = 0`` with the speed ``mechanism.crank_speed``. The link's elastic forces do not act back on
-    the crank yet (one-way coupling).
+    ``phi = 0`` with the speed ``mechanism.crank_speed``. With ``coupling = "one-way"`` the link's
+    elastic forces do not act back on the crank; ``"two-way"`` adds the torque of the link's elastic
+    motion to the crank's equation and iterates crank and link to their common motion
+    (:mod:`lubelink.coupling`).
 
     Attributes
     ----------
@@ -434,6 +437,10 @@ class Drive:
         away from the crank is positive).
     slider_friction : float
         Coulomb friction force on the slider, opposing its velocity [N] (``F_f >= 0``).
+    coupling : str
+        ``"one-way"`` (the crank follows the rigid mechanism, the link follows the crank) or ``"two-way"``
+        (the link's elastic motion acts back on the crank: a waveform relaxation of crank and link,
+        :mod:`lubelink.coupling`).
     """
 
     law: str = "speed"
@@ -446,6 +453,7 @@ class Drive:
     slider_mass: float = 0.0
     slider_force: float = 0.0
     slider_friction: float = 0.0
+    coupling: str = "one-way"
 
     @property
     def prescribed(self) -> bool:

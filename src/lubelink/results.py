@@ -51,6 +51,7 @@ class Run:
     phase_v: np.ndarray | None = None
     phase_point: np.ndarray | None = None
     section: object = None  # the lubelink.link.section.Section run() was given, if any
+    coupling: object = None  # drive.coupling = "two-way": the relaxation's lubelink.coupling.Coupling
 
     @property
     def complete(self) -> bool:
@@ -372,6 +373,9 @@ def collect(result, variables=None, *, threads=2, config_text=True) -> Results:
         "stress_utilisation": _utilisation(data, cfg.beam.yield_strength),
         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
+    if result.coupling is not None:  # the two-way relaxation (lubelink.coupling)
+        attrs.update(coupling_runs=result.coupling.runs, coupling_change=result.coupling.changes[-1],
+                     coupling_change_units="rad s-1", coupling_contraction=result.coupling.contraction)
     return Results(data, coords, attrs)
 
 

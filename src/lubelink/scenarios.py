@@ -27,6 +27,14 @@ GUIDE_MODES = 15
 #: asperities carry load and the gap stays open (docs/breakdown.md's regime map).
 GUIDE_MIXED_CLEARANCE = 2.0e-5
 
+#: The ``driven-piston`` scenario (docs/configuration.md): a motor's torque-speed line through a flywheel drives the
+#: paper's mechanism against a piston load, the link's elastic motion acting back on the crank. Its slider's Coulomb
+#: friction takes 4 F_f OA a turn; the line's steady mean speed over the crank angle, omega_nl (1 - 2 F_f OA /
+#: (pi T_s)) (docs/model.md 3.7), is the paper's 10 pi rad/s with omega_nl = 10 pi / (1 - 2 * 20 * 0.07 / (10 pi)).
+PISTON_STALL_TORQUE = 10.0
+PISTON_FRICTION = 20.0
+PISTON_NO_LOAD_SPEED = 34.489899841992525
+
 #: Wall-clock budget of every run [s] (``solver.max_wall_time`` of every scenario, hence of every
 #: configuration read from a file, a dict or ``--set``): a run that would take longer stops with
 #: status ``timeout`` and keeps its results so far. The CLI warns before starting a run whose
@@ -81,6 +89,16 @@ SCENARIOS: dict[str, dict] = {
                  "sides": 2, "cavitation": "half-sommerfeld", "cavitation_pressure": 1.0e5,
                  "roughness": GUIDE_ROUGHNESS, "thickness_floor": 0.0},
         "contact": {"law": "compliant", "min_film": 0.25 * GUIDE_ROUGHNESS},
+    },
+    "driven-piston": {
+        "description": "The paper's mechanism (wedge film) driven by a motor's torque-speed line through a flywheel "
+                       "of 0.1 kg m^2 against a 0.5 kg piston with a 30 N load and 20 N of friction, the link's "
+                       "elastic motion acting back on the crank (drive.coupling = two-way)",
+        "film": {"model": "wedge"},
+        "contact": {"law": "none"},
+        "drive": {"law": "torque-speed", "stall_torque": PISTON_STALL_TORQUE, "no_load_speed": PISTON_NO_LOAD_SPEED,
+                  "flywheel_inertia": 0.1, "slider_mass": 0.5, "slider_force": -30.0,
+                  "slider_friction": PISTON_FRICTION, "coupling": "two-way"},
     },
     "spatial-slider-crank": {
         "description": "The spatial link (docs/spatial.md): the slider-crank with its crank axis tilted 0.2 rad "

@@ -15,6 +15,7 @@ import numpy as np
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
+from .coupling import relax
 from ._jit import compile_errors
 from ._prewarm import announcing, first_run
 from .assembly import compile_failed
@@ -150,10 +151,25 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         ``[t, x_c, v_minus, v_plus, side, q, q_dot_before, q_dot_after]`` per impact (compliant
         contact: ``t`` is the start, ``v_plus`` the approach velocity at the end); ``contacts``
         ``[t_start, t_end, side]`` per contact phase; ``phase_side``, ``phase_v`` the contact
-        phase of every sample (side 0: free).
+        phase of every sample (side 0: free). With ``drive.coupling = "two-way"`` the last run of the
+        relaxation (:func:`lubelink.coupling.relax`), ``coupling`` its record.
     """
+    if config.drive.coupling == "two-way" and motion is None:
+        first = None if model is None else model.motion
+
+        def once(driven):
+            built = model if driven is first else build_model(config, driven, section)
+            return _run(config, progress, built, y0, section)
+
+        result, record = relax(config, once, section, first)
+        result.coupling = record
+        return result
+    return _run(config, progress, build_model(config, motion, section) if model is None else model, y0, section)
+
+
+def _run(config, progress, model, y0, section) -> Run:
+    """:func:`run` of one model (one-way)."""
     start = time.perf_counter()
-    model = build_model(config, motion, section) if model is None else model
     s = config.solver
     deadline = start + s.max_wall_time if np.isfinite(s.max_wall_time) else None
     t_eval = sample_times(s)

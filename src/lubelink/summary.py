@@ -38,6 +38,10 @@ def summary(r, source, path, wall):
         rows.append(("crank speed", f"{mean:.6g} rad/s on average, {float(w.min()):.6g} - {float(w.max()):.6g} rad/s "
                                     f"(fluctuation {float(w.max() - w.min()) / abs(mean):.3g}), motor torque "
                                     f"{float(np.mean(r['motor_torque'])):.4g} N m on average"))
+    if "coupling_runs" in a:  # drive.coupling = "two-way" (lubelink.coupling)
+        rows.append(("coupling", f"two-way, {int(a['coupling_runs'])} link runs, the crank speed's last change "
+                                 f"{float(a['coupling_change']):.3g} rad/s (contraction "
+                                 f"{float(a['coupling_contraction']):.3g})"))
     if "u3_mid" in r and r["u3_mid"].size:  # the spatial link: the out-of-plane peak too
         u3 = np.abs(np.asarray(r["u3_mid"]))
         j = int(np.argmax(u3))

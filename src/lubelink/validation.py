@@ -149,6 +149,7 @@ RULES = {
         "slider_mass": _num(0, 1e6),
         "slider_force": _num(-1e9, 1e9),
         "slider_friction": _num(0, 1e9),
+        "coupling": _choice(CHOICES["drive.coupling"]),
     },
 }
 
@@ -278,6 +279,10 @@ def _drive_problems(config):
     """What a driven crank (``drive.law`` other than ``"speed"``) does not support yet, one message each."""
     d, out = config.drive, []
     if d.prescribed:
+        if d.coupling != "one-way":
+            out.append(f"drive.coupling = {_fmt(d.coupling)}: the prescribed crank speed (drive.law = 'speed') is "
+                       "an infinite flywheel, nothing acts back on it; set drive.law = 'torque', 'torque-speed' or "
+                       "'controller', or drive.coupling = 'one-way'")
         return out
     law = f"drive.law = {_fmt(d.law)}"
     if config.beam.model == "spatial":

@@ -1,0 +1,163 @@
+"""The driven crank and the elastic link coupled both ways: a waveform relaxation (docs/model.md, section 3.8).
+
+With ``drive.coupling = "two-way"`` the torque the link's elastic motion puts on the crank
+(:func:`lubelink.link.drive.elastic_torque`) enters the crank's equation. The link's compiled model takes the
+rigid motion from a table, so instead of making the crank angle a state of it (every kernel's signature would
+change), crank and link are iterated over the whole run (Gauss-Seidel):
+
+0. the crank alone (:func:`~lubelink.link.drive.driven_motion`) -> its sampled motion -> a run of the link;
+k. the crank with the elastic torque of run k-1 (a spline of it in time) -> a new sampled motion -> run k,
+
+until the crank speed changes by at most :func:`tolerance` between two iterations, over the time the
+link ran (a run that stops early, at film breakdown say, is coupled up to its stop). The method knows the
+link only as ``run_link(motion) -> Run`` (:func:`relax`), so the integrators and kernels are those of a
+one-way run; its cost is the number of link runs times that of one.
+"""
+
+from __future__ import annotations
+
+import bisect
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .derived import modal_accelerations
+from .link.drive import driven_motion, elastic_torque
+from .link.reactions import link_inertia
+from .link.section import taper
+
+__all__ = ["MAX_ITERATIONS", "TOLERANCE_FACTOR", "CRANK_RTOL_FACTOR", "CouplingError", "Coupling", "ElasticTorque", "tolerance",
+           "run_torque", "relax"]
+
+#: The crank's integration tolerance in the iterations: this times ``solver.rtol`` (at least 1e-13). Its error
+#: in the crank speed stays 1e3 below :func:`tolerance`'s; the elastic torque's spline (C2 at the link's
+#: samples) and its higher modes make the crank's integrator take 2-3x fewer steps than at the one-way 1e-11.
+CRANK_RTOL_FACTOR = 1e-3
+
+#: Link runs after which a relaxation that has not converged is refused (:class:`CouplingError`).
+MAX_ITERATIONS = 8
+
+#: The relaxation stops where the crank speed changes by at most this times ``solver.rtol`` times its
+#: largest value (:func:`tolerance`).
+TOLERANCE_FACTOR = 100.0
+
+
+class CouplingError(RuntimeError):
+    """The two-way relaxation of crank and link did not converge (the message gives its changes)."""
+
+
+@dataclass
+class Coupling:
+    """How the relaxation went: the largest change of the crank speed [rad/s] at each iteration (``changes``;
+    the first is the one-way model's miss), the link runs (``runs``), the stopping ``tolerance`` [rad/s] and the
+    wall time of the crank's integrations (``crank_time``) [s]."""
+
+    changes: list = field(default_factory=list)
+    runs: int = 0
+    tolerance: float = 0.0
+    crank_time: float = 0.0
+
+    @property
+    def contraction(self) -> float:
+        """The measured contraction factor: the ratio of the last two changes (NaN with fewer than two)."""
+        return self.changes[-1] / self.changes[-2] if len(self.changes) > 1 and self.changes[-2] > 0 else np.nan
+
+
+class ElasticTorque:
+    """The link's elastic torque on the crank [N m] as a callable of time [s]: a C2 cubic spline of its samples,
+    zero after the last (where the link did not run)."""
+
+    def __init__(self, t, torque):
+        from scipy.interpolate import CubicSpline
+
+        self.t, self.torque = np.asarray(t, dtype=float), np.asarray(torque, dtype=float)
+        self._spline = CubicSpline(self.t, self.torque)
+        self._knots, self._pieces = self.t.tolist(), self._spline.c.T.tolist()  # (for one time: plain floats)
+
+    def __call__(self, t):
+        if np.ndim(t) == 0:  # the crank's integrator asks one time at a time: Horner on the piece, 8x SciPy's call
+            t = float(t)
+            if not self._knots[0] <= t <= self._knots[-1]:
+                return 0.0
+            i = min(bisect.bisect_right(self._knots, t), len(self._pieces)) - 1
+            c3, c2, c1, c0 = self._pieces[i]
+            dt = t - self._knots[i]
+            return ((c3 * dt + c2) * dt + c1) * dt + c0
+        t = np.asarray(t, dtype=float)
+        inside = (t >= self.t[0]) & (t <= self.t[-1])
+        return np.where(inside, self._spline(np.clip(t, self.t[0], self.t[-1])), 0.0)
+
+
+def tolerance(config, speed) -> float:
+    """Largest change of the crank speed [rad/s] between two iterations at which the relaxation stops:
+    :data:`TOLERANCE_FACTOR` ``solver.rtol max |phi_dot|`` (``speed``: the crank speed's samples [rad/s])."""
+    return TOLERANCE_FACTOR * config.solver.rtol * float(np.max(np.abs(speed)))
+
+
+def run_torque(result):
+    """``(t [s], torque [N m])``: the elastic torque on the crank of a link run (a :class:`~lubelink.results.Run`
+    of a driven motion) at its samples, from its sine-mode states and their accelerations."""
+    model = result.model
+    cfg, N = model.config, model.modes
+    L = cfg.mechanism.rod_length
+    t, y = result.t, result.y
+    keep = np.concatenate([[True], np.diff(t) > 0.0])  # (a sample repeated at an event: once)
+    t, y = t[keep], y[keep]
+    q_ddot = modal_accelerations(result, t, y)
+    phi, phi_dot, phi_ddot, _ = model.motion.crank(t)
+    inertia = link_inertia(result.section or taper(cfg.beam, L), cfg.beam.density, L, N)
+    return t, elastic_torque(phi, phi_dot, phi_ddot, y[:, :N], y[:, N:], q_ddot, cfg.mechanism, inertia)
+
+
+def relax(config, run_link, section=None, motion=None, max_iterations=MAX_ITERATIONS):
+    """Iterate crank and link to their common motion; ``(run, Coupling)``.
+
+    Parameters
+    ----------
+    config : Config
+        A driven crank (``drive.law`` other than ``"speed"``).
+    run_link : callable
+        ``run_link(motion) -> Run``: one run of the link under a :class:`~lubelink.link.drive.DrivenMotion`.
+    section : lubelink.link.section.Section, optional
+        The link's section, for the crank's rigid inertia.
+    motion : DrivenMotion, optional
+        The crank alone's motion, where the caller has it (default: :func:`~lubelink.link.drive.driven_motion`).
+    max_iterations : int
+        Link runs at most.
+
+    Returns
+    -------
+    tuple
+        The last link run (its crank motion: ``run.model.motion.crank``, integrated with the elastic torque
+        of the run before) and the :class:`Coupling` record.
+
+    Raises
+    ------
+    CouplingError
+        Where the crank speed still changes by more than :func:`tolerance` after ``max_iterations`` runs.
+    """
+    start = time.perf_counter()
+    motion = driven_motion(config, section) if motion is None else motion
+    record = Coupling(crank_time=time.perf_counter() - start)
+    while True:
+        result = run_link(motion)
+        record.runs += 1
+        t, torque = run_torque(result)
+        start = time.perf_counter()
+        following = driven_motion(config, section, torque=ElasticTorque(t, torque),
+                                  rtol=max(CRANK_RTOL_FACTOR * config.solver.rtol, 1e-13))
+        record.crank_time += time.perf_counter() - start
+        before, after = motion.crank(t)[1], following.crank(t)[1]
+        record.tolerance = tolerance(config, before)
+        record.changes.append(float(np.max(np.abs(after - before))))
+        if record.changes[-1] <= record.tolerance:
+            return result, record
+        if record.runs >= max_iterations:
+            raise CouplingError(
+                f"drive.coupling = 'two-way': the crank speed still changes by {record.changes[-1]:.3g} rad/s after "
+                f"{record.runs} runs of the link (tolerance {record.tolerance:.3g} rad/s; changes "
+                f"{', '.join(f'{c:.3g}' for c in record.changes)}; contraction {record.contraction:.3g}): the "
+                "elastic torque is too large against the flywheel for the relaxation; use a larger "
+                "drive.flywheel_inertia or drive.coupling = 'one-way'")
+        motion = following
