@@ -1,7 +1,8 @@
 """Running a sweep (the client side): :func:`run_sweep`.
 
 Validate every point, open (or resume) the store, choose where the points run
-(:func:`choose_executor`: this process, a pool of processes, or Dask), then compute them there
+(:func:`choose_executor`: this process, a pool of processes, or Dask; by the time of pilot points
+computed here, :func:`run_pilot`, where the kernels are cached), then compute them there
 (:func:`lubelink.sweep.local.run_serial`, :func:`~lubelink.sweep.local.run_pool`,
 :func:`lubelink.sweep.on_dask._execute`). Each task's points are committed to the store as it
 completes, the same way on every path (:class:`~lubelink.sweep.local.Tally`), so an interruption
@@ -167,8 +168,11 @@ def run_sweep(sweep, store=None, *, executor="auto", client=None, scheduler=None
         a pool of ``workers`` processes (``concurrent.futures``), ``"dask"`` on Dask (``client``,
         ``scheduler``, or a ``LocalCluster`` of ``workers`` processes started for this call).
         ``"auto"`` (the default): Dask when a client or a scheduler is given; else in this process
-        when ``workers=1`` or when the points' estimated time is under :data:`SERIAL_SECONDS`
-        (less than a pool takes to start), a pool below :data:`DASK_SECONDS`, Dask beyond.
+        when ``workers=1``; else, where the compiled kernels are cached, the first points are computed
+        (and stored) here and timed (:func:`run_pilot`), and the rest run where they end sooner
+        (here, or on a pool that must start: :func:`choose_executor`); without the cache, in this
+        process when the points' estimated time is under :data:`SERIAL_SECONDS` (less than a pool
+        takes to start), a pool below :data:`DASK_SECONDS`, Dask beyond.
         The choice is logged (and printed with ``progress``) and recorded in the run's entry of
         the store's ``runs`` attribute (``executor``).
     client : distributed.Client, optional
@@ -282,9 +286,10 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
                         n_time=len(sample_times(sp.base_config.solver)) if sp.time_series else 0,
                         output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
     choice = ready = started = None
-    pilot = client is None and wants_pilot(sp, sp.size, executor, workers, False)
-    if client is None and not os.path.lexists(_side_store(path) if _is_netcdf(path) else path) \
-            and not (_is_netcdf(path) and path.exists()):
+    new = client is None and not os.path.lexists(_side_store(path) if _is_netcdf(path) else path) \
+        and not (_is_netcdf(path) and path.exists())
+    pilot = new and wants_pilot(sp, sp.size, executor, workers, False)
+    if new:
         # a new store: every point is pending (less the invalid ones), so the executor is known now (or after
         # the pilot), and a pool's server imports lubelink and loads the kernels while the points are
         # validated, the store is built and the pilot runs (about 2 s of a start)
@@ -341,6 +346,8 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
             trace = str(Path(trace).resolve()) if trace else None
             tally = per_point = None
             try:
+                if not new and client is None:  # a resumed store: its pending points known only now
+                    pilot = wants_pilot(sp, len(pending), executor, workers, False)
                 if pilot and len(pending) > PILOT_POINTS + 1:
                     tally = Tally(st, sp, pending, done, status, progress, session, _workers(executor, workers,
                                                                                              False)[0])
