@@ -88,12 +88,13 @@ EXPONENTIAL_PER_STATE2 = 0.01e-6
 #: Seconds of one Greenwood-Tripp integral (``F_{5/2}`` or ``F_{3/2}``, a 256-interval quadrature: 257
 #: exponentials), computed at every node within reach of the asperities (:mod:`lubelink.mixed`), at each
 #: evaluation and, for the stiff method's Jacobian, once more a step. ``benchmarks/bench.py --only estimate``
-#: prints it (4.3 us measured at a load average of 9 on the 2-core machine, 2.5-3 us unloaded).
-GT_INTEGRAL = 3.0e-6
+#: prints it alone (4.3-7.6 us on the shared 2-core machine); in the runs of ``guide`` at 16 um and of
+#: ``guide-mixed``, 4.2 and 3.3 us (their time a step beyond ``guide``'s at 40 um, over the integrals counted).
+GT_INTEGRAL = 4.0e-6
 #: The stiff method's steps grow by this times the share of the run with the asperities loaded
-#: (:attr:`lubelink.mixed.MixedShare.loaded`): the clearance sweep of ``guide`` over 0.5 s (steps 1.16, 1.45,
-#: 1.89 times those of 40 um at 25, 20, 16 um; shares 0.06, 0.22, 0.31), and ``guide-mixed`` over 2 s
-#: (2.2 times ``guide``'s steps, share 0.22).
+#: (:attr:`lubelink.mixed.MixedShare.loaded`): the clearance sweep of ``guide`` over 0.5 s (steps 1.17, 1.47,
+#: 1.91 times those of 40 um at 25, 20, 16 um; shares 0.06, 0.22, 0.31: 2.1-2.9), and ``guide-mixed`` over
+#: 2 s (2.2 times ``guide``'s steps, share 0.22: 5.5).
 LOADED_STEPS = 3.0
 #: Seconds per point of the Reynolds cavitation grid per evaluation.
 EVAL_PER_GRID_POINT = 0.035e-6

@@ -38,7 +38,7 @@ __all__ = ["MixedShare", "prop_force", "propped_deflection", "pad_films", "asper
 REACH, ONSET = 10.0, 4.0
 #: How far [m] the link sinks into the collar a crank revolution, until the asperities carry the joint
 #: load (:func:`settled_shift`). Measured, not derived: ``guide``'s thinnest film by revolution, second to
-#: seventh, 9.05, 6.9, 5.2, 3.6, 2.4, 1.4 um (1.0-2.2 um a revolution); a 100 um clearance's 27.3 um
+#: seventh, 9.05, 6.9, 5.2, 3.6, 2.4, 1.4 um (1.0-2.1 um a revolution); a 100 um clearance's 27.3 um
 #: after 2.5 revolutions and 13.5 um after 10 (1.9 um a revolution late in the run).
 SINK = 1.7e-6
 #: Samples of the crank revolution, and points along the pad.
