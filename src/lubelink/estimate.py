@@ -26,8 +26,7 @@ The work counted:
   ``modes x quadrature_nodes``; this is what makes 200 modes slow;
 * **the results** (:func:`results_cost`): per output sample, the film's series, the energy's powers
   and the joint reactions evaluate the film about six times; a fixed part builds the model and the
-  Dataset.
-
+  Dataset;
 * **mixed lubrication** (:mod:`lubelink.mixed`, rough surfaces): the collar holds the link against its
   rigid motion's inertial load and the link bends through it, tilting about 10 um across ``guide``'s pad
   whatever the clearance, and it sinks into the collar over the revolutions until the asperities carry
@@ -36,9 +35,12 @@ The work counted:
   loaded adds stiff steps (:data:`LOADED_STEPS`).
 
 Measured against it (``simulate()`` warm, 2026-11-28, ``benchmarks/bench.py --only estimate``): the
-built-in scenarios take 0.73-1.32x their estimate; ``guide-mixed`` 2.6x before the mixed-lubrication
-share, which roughly doubled its estimate (its share of the pad within reach, 0.05, is 0.19 in the run's first
-0.5 s: the run's pad lies flatter in the collar than the quasi-static tilt, so it stays underestimated).
+built-in scenarios took 0.73-1.32x their estimate on a quiet machine, except ``guide-mixed`` at 2.6x before
+the mixed-lubrication share; with it, at a load average of 3-8 on the shared 2-core machine (CPU time; the
+short scenarios, whose estimate it leaves alone, took 1.3-3.5x theirs at that load), ``guide`` 0.99-1.06x, ``guide-mixed`` 1.78-2.24x, and
+``guide`` along its clearance over 0.5 s (100 to 16 um: 0.61 to 2.55 s of CPU) 0.70-0.90x. Its share of
+the pad within reach of the asperities (0.05) is 0.19 in the run's first 0.5 s: the run's pad lies
+flatter in the collar than the quasi-static tilt, so ``guide-mixed`` stays on the low side.
 """
 
 from __future__ import annotations
