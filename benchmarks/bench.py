@@ -398,7 +398,8 @@ def bench_mixed(args):
     print(f"\n   one Greenwood-Tripp integral (F_5/2, compiled): {1e6 * best:.2f} us (priced at "
           f"{1e6 * GT_INTEGRAL:.2f} us)")
     print(f"   guide along its clearance, t_end = {MIXED_T_END} s (warm; min of 2)")
-    print(f"   {'clearance':>9}{'zone':>7}{'loaded':>8}{'steps est':>10}{'steps':>8}{'estimate':>10}{'cpu':>9}{'cpu/est':>9}")
+    print(f"   {'clearance':>9}{'zone':>7}{'loaded':>8}{'steps est':>10}{'steps':>8}{'estimate':>10}{'cpu':>9}"
+          f"{'cpu/est':>9}")
     for clearance in CLEARANCES:
         config = resolve("guide", {"film.clearance": clearance, "solver.t_end": MIXED_T_END})
         share, est = mixed_share(config), run_cost(config)

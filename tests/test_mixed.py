@@ -28,7 +28,8 @@ def free_deflection(x):
 
 
 def influence(x, a):
-    """Deflection at ``x >= a`` of a simply supported beam under a unit load at ``a``: ``a (L - x) (2 L x - x^2 - a^2) / (6 EI L)``."""
+    """Deflection at ``x >= a`` of a simply supported beam under a unit load at ``a``:
+    ``a (L - x) (2 L x - x^2 - a^2) / (6 EI L)``."""
     return a * (L - x) * (2.0 * L * x - x**2 - a**2) / (6.0 * EI * L)
 
 

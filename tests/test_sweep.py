@@ -705,7 +705,8 @@ def test_auto_times_pilot_points_here_then_runs_the_rest_where_they_end_sooner(m
     forever to start leaves the rest here, one that starts at once takes them; the same results either way."""
     from lubelink.sweep import execute
 
-    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.05, 0.1, 0.15, 0.2], "mechanism.crank_speed": [20.0, 30.0, 40.0]}))
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.05, 0.1, 0.15, 0.2],
+                                  "mechanism.crank_speed": [20.0, 30.0, 40.0]}))
     assert execute.wants_pilot(sp, sp.size, workers=2)  # kernels cached by the test session's warm-up
     assert not execute.wants_pilot(sp, sp.size, workers=1) and not execute.wants_pilot(sp, sp.size, "serial", 2)
     assert not execute.wants_pilot(sp, execute.PILOT_POINTS + 1, workers=2)

@@ -34,13 +34,13 @@ The work counted:
   quadrature per node and evaluation (:data:`GT_INTEGRAL`), the share of the run with the asperities
   loaded adds stiff steps (:data:`LOADED_STEPS`).
 
-Measured against it (``simulate()`` warm, 2026-11-28, ``benchmarks/bench.py --only estimate``): the
-built-in scenarios took 0.73-1.32x their estimate on a quiet machine, except ``guide-mixed`` at 2.6x before
-the mixed-lubrication share; with it, at a load average of 3-8 on the shared 2-core machine (CPU time; the
-short scenarios, whose estimate it leaves alone, took 1.3-3.5x theirs at that load), ``guide`` 0.99-1.06x, ``guide-mixed`` 1.78-2.24x, and
-``guide`` along its clearance over 0.5 s (100 to 16 um: 0.61 to 2.55 s of CPU) 0.70-0.90x. Its share of
-the pad within reach of the asperities (0.05) is 0.19 in the run's first 0.5 s: the run's pad lies
-flatter in the collar than the quasi-static tilt, so ``guide-mixed`` stays on the low side.
+Measured against it (``simulate()`` warm, 2026-11-28, ``benchmarks/bench.py --only estimate``): the built-in
+scenarios took 0.73-1.32x their estimate on a quiet machine, except ``guide-mixed`` at 2.6x before the
+mixed-lubrication share; with it, at a load average of 3-8 on the shared 2-core machine (CPU time; the short
+scenarios, whose estimate it leaves alone, took 1.3-3.5x theirs at that load), ``guide`` 0.99-1.06x,
+``guide-mixed`` 1.78-2.24x, and ``guide`` along its clearance over 0.5 s (100 to 16 um: 0.61 to 2.55 s of CPU)
+0.70-0.90x. Its share of the pad within reach of the asperities (0.05) is 0.19 in the run's first 0.5 s: the
+run's pad lies flatter in the collar than the quasi-static tilt, so ``guide-mixed`` stays on the low side.
 """
 
 from __future__ import annotations

@@ -30,7 +30,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["MixedShare", "prop_force", "propped_deflection", "pad_films", "asperity_force", "settled_shift", "mixed_share", "REACH", "ONSET"]
+__all__ = ["MixedShare", "prop_force", "propped_deflection", "pad_films", "asperity_force", "settled_shift",
+           "mixed_share", "REACH", "ONSET"]
 
 #: Standardised film ``h / sigma`` below which the Greenwood-Tripp pressure is computed (its integral
 #: is 0 beyond: :func:`lubelink.film.asperity.greenwood_tripp_integral`), and below which it carries a
