@@ -42,8 +42,9 @@ REACH, ONSET = 10.0, 4.0
 #: seventh, 9.05, 6.9, 5.2, 3.6, 2.4, 1.4 um (1.0-2.1 um a revolution); a 100 um clearance's 27.3 um
 #: after 2.5 revolutions and 13.5 um after 10 (1.9 um a revolution late in the run).
 SINK = 1.7e-6
-#: Samples of the crank revolution, and points along the pad.
-SAMPLES, POINTS = 64, 32
+#: Samples of the crank revolution, and points along the pad; :func:`settled_shift` looks for the largest
+#: asperity force among the ``THINNEST`` samples of the thinnest films.
+SAMPLES, POINTS, THINNEST = 64, 32, 8
 
 
 class MixedShare(NamedTuple):
@@ -148,9 +149,10 @@ def settled_shift(h, P, film, width):
     target = float(np.max(np.abs(P)))
     toward = _toward(h)
     side = int(np.argmax(toward))
+    films = h[np.argsort(h[:, side].min(axis=1))[:THINNEST], side]  # where the largest force is
 
     def carried(shift):
-        return float(np.max(asperity_force(h[:, side] - shift, film.roughness, K, film.contact_modulus, width, dx)))
+        return float(np.max(asperity_force(films - shift, film.roughness, K, film.contact_modulus, width, dx)))
 
     lo, hi = 0.0, film.clearance
     if carried(lo) >= target:
