@@ -736,9 +736,9 @@ def test_a_timed_pilot_chooses_by_the_time_each_side_would_take(monkeypatch):
     assert line == ("100 point(s) in this process (8 point(s) here took 10 ms each: about 1 s in this process, "
                     "1.5 s on 2 workers)")
     assert execute.choose_executor(sp, 400, workers=1, timed=(8, 0.01, 0.0))[:2] == ("serial", 1)
-    monkeypatch.setattr(execute, "free_cores", lambda: (1.2, 0.8))  # without --workers: one worker per free core
-    assert execute.choose_executor(sp, 400, timed=(8, 0.01, 0.0))[:2] == ("serial", 1)
-    assert execute.choose_executor(sp, 400, workers=2, timed=(8, 0.01, 1.0))[:2] == ("processes", 2)  # as asked
+    monkeypatch.setattr(execute, "free_cores", lambda: (1.2, 0.8))  # 2 workers asked for, 1.2 cores free
+    kind, n, line = execute.choose_executor(sp, 400, workers=2, timed=(8, 0.01, 1.0))  # 4 s here, 4.3 s there
+    assert (kind, n) == ("serial", 1) and line.endswith("4.3 s on 2 workers (1.2 cores free))")
     assert execute.choose_executor(sp, 400, "processes", workers=2, timed=(8, 1.0, 99.0))[:2] == ("processes", 2)
 
 

@@ -117,10 +117,8 @@ def choose_executor(sp, n_points, executor="auto", workers=None, dask_given=Fals
     (or none), the points run in this process. With ``timed``, ``(points, seconds, pool_start)``: ``points``
     pilot points took ``seconds`` each in this process, and a pool would add ``pool_start`` [s]: the points
     run where they end sooner, ``n_points x seconds`` here or ``pool_start + n_points x seconds / workers``;
-    else by the estimate (:func:`serial_seconds` against :data:`SERIAL_SECONDS`). ``workers`` given, the pool
-    is priced with them, busy cores or not (on 2 cores at a load average of 5, 2 workers ran 400 points in
-    21.6 s where this process took 29.7 s: they take a larger share of a busy machine; at 3.5, 19.1 s
-    against 12.8 s)."""
+    else by the estimate (:func:`serial_seconds` against :data:`SERIAL_SECONDS`). The pool's workers share the
+    cores other processes leave free (``workers`` given: as many workers as asked, at most that speed-up)."""
     n, load = _workers(executor, workers, dask_given)
     if executor == "auto":
         if dask_given:
@@ -129,10 +127,11 @@ def choose_executor(sp, n_points, executor="auto", workers=None, dask_given=Fals
             kind, why = "serial", "one worker" if not load else "one core free"
         elif timed is not None:
             points, seconds, pool_start = timed
-            here, pool = n_points * seconds, pool_start + n_points * seconds / n
+            cores = min(float(n), max(1.0, free_cores()[0])) if workers else float(n)
+            here, pool = n_points * seconds, pool_start + n_points * seconds / cores
             kind = "processes" if pool < here else "serial"
             why = (f"{points} point(s) here took {1e3 * seconds:.3g} ms each: about {here:.2g} s in this process, "
-                   f"{pool:.2g} s on {n} workers")
+                   f"{pool:.2g} s on {n} workers" + (f" ({cores:.1f} cores free)" if cores < n else ""))
         else:
             est = serial_seconds(sp, n_points)
             if est < SERIAL_SECONDS:
