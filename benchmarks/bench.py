@@ -366,6 +366,59 @@ def bench_estimate(args):
             lubelink.simulate(name)
             wall, cpu = min(wall, time.perf_counter() - w0), min(cpu, time.process_time() - c0)
         print(f"{name:<22}{estimate:>9.3g}s{wall:>9.3g}s{cpu:>9.3g}s{wall / estimate:>10.2f}{cpu / estimate:>9.2f}")
+    bench_mixed(args)
+
+
+#: The clearances [m] of ``guide`` swept against the estimate's share of mixed lubrication, over ``MIXED_T_END`` [s].
+CLEARANCES, MIXED_T_END = (100e-6, 60e-6, 40e-6, 30e-6, 25e-6, 20e-6, 16e-6), 0.5
+
+
+def bench_mixed(args):
+    """``guide`` along its clearance (``CLEARANCES``, 0.5 s): the estimate and its shares of mixed lubrication
+    (:func:`lubelink.mixed.mixed_share`) against the run's steps and CPU time (the minimum of 2, warm), and the
+    cost of one Greenwood-Tripp integral in compiled code (the estimate's ``GT_INTEGRAL``)."""
+    import numba
+
+    import lubelink
+    from lubelink.config import resolve
+    from lubelink.estimate import GT_INTEGRAL, results_cost, run_cost
+    from lubelink.film.asperity import f52
+    from lubelink.mixed import mixed_share
+
+    @numba.njit
+    def many(lams):
+        total = 0.0
+        for lam in lams:
+            total += f52(lam)
+        return total
+
+    lams = np.linspace(0.0, 9.9, 20000)
+    many(lams[:2])
+    best = min(_timed(lambda: many(lams)) for _ in range(5)) / lams.size
+    print(f"\n   one Greenwood-Tripp integral (F_5/2, compiled): {1e6 * best:.2f} us (priced at "
+          f"{1e6 * GT_INTEGRAL:.2f} us)")
+    print(f"   guide along its clearance, t_end = {MIXED_T_END} s (warm; min of 2)")
+    print(f"   {'clearance':>9}{'zone':>7}{'loaded':>8}{'steps est':>10}{'steps':>8}{'estimate':>10}{'cpu':>9}"
+          f"{'cpu/est':>9}")
+    for clearance in CLEARANCES:
+        config = resolve("guide", {"film.clearance": clearance, "solver.t_end": MIXED_T_END})
+        share, est = mixed_share(config), run_cost(config)
+        seconds = est.seconds + results_cost(config)
+        lubelink.simulate(config)
+        cpu, steps = math.inf, 0
+        for _ in range(2):
+            c0 = time.process_time()
+            ds = lubelink.simulate(config)
+            cpu = min(cpu, time.process_time() - c0)
+            steps = int(ds.attrs["nsteps"])
+        print(f"   {1e6 * clearance:>7.0f}um{share.zone:>7.3f}{share.loaded:>8.2f}{est.steps:>10.0f}{steps:>8}"
+              f"{seconds:>9.3g}s{cpu:>8.3g}s{cpu / seconds:>9.2f}")
+
+
+def _timed(f):
+    t0 = time.perf_counter()
+    f()
+    return time.perf_counter() - t0
 
 
 # --- 7. a fresh process's start ------------------------------------------------------------------------

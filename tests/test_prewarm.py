@@ -161,6 +161,20 @@ def test_a_run_of_the_session_is_cached_beyond_its_right_hand_side():
     assert not _prewarm._run_is_cached(model.config, other)
 
 
+def test_kernels_ready_says_whether_a_run_would_compile(tmp_path):
+    """What a sweep's pilot asks first: yes for a run of the session (compiled, cached), and for the ``numpy``
+    backend (nothing to compile); no for the spatial link (not checked) and in a process with an empty cache."""
+    config = resolve("paper", {"solver.t_end": 2e-3})
+    run(config)
+    assert _prewarm.kernels_ready(config)
+    assert _prewarm.kernels_ready(resolve("paper", {"solver.backend": "numpy"}))
+    assert not _prewarm.kernels_ready(resolve("spatial-slider-crank"))
+    code = "from lubelink import _prewarm, config; print(_prewarm.kernels_ready(config.resolve('paper')))"
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
+                       env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)})
+    assert r.returncode == 0 and r.stdout.strip() == "False", r.stderr
+
+
 @pytest.mark.parametrize("env, compiles", [({"LUBELINK_FIRST_RUN": "compile"}, True), ({"LUBELINK_PREWARM": "0"}, False)])
 def test_the_environment_turns_it_off(monkeypatch, tmp_path, env, compiles):
     """``LUBELINK_FIRST_RUN=compile`` compiles first on two cores, ``LUBELINK_PREWARM=0`` leaves the compile to

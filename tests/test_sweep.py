@@ -494,6 +494,7 @@ def test_timeouts_netcdf_output_resume_and_retry(client, tmp_path):
 #: The command-line options of each execution path: (the killed run's, the resumed run's).
 PATHS = {"serial": (["--executor", "serial"], ["--executor", "serial"]),
          "processes": (["--executor", "processes", "--workers", "2"], ["--executor", "processes", "--workers", "2"]),
+         "auto": (["--workers", "2"], ["--workers", "2"]),  # pilot points here, then here or on a pool
          "dask": (["--workers", "2", "--executor", "dask"], None)}  # resumed on the shared cluster (--scheduler)
 
 
@@ -549,7 +550,7 @@ def test_kill_mid_sweep_then_resume_equals_an_uninterrupted_sweep(kill_reference
     assert max((ends(first) + again).count(i) for i in range(N)) <= 2
     runs = json.loads(resumed.attrs["runs"])
     assert runs[-1]["computed"] == N - len(done_before) and runs[-1]["resumed"] == len(done_before)
-    assert runs[-1]["executor"] == path
+    assert runs[-1]["executor"] == path or path == "auto" and runs[-1]["executor"] in ("serial", "processes")
     if path == "dask":
         assert runs[-1]["scheduler"] == f"Dask scheduler {address}"
 
@@ -697,6 +698,48 @@ def test_auto_runs_a_short_sweep_here_a_longer_on_a_pool_and_dask_where_given(mo
                         ({"executor": "processes", "scheduler": "tcp://127.0.0.1:9"}, "needs executor 'dask'")]:
         with pytest.raises(SweepError, match=needle):
             run_sweep(sp, "never.zarr", progress=False, **bad)
+
+
+def test_auto_times_pilot_points_here_then_runs_the_rest_where_they_end_sooner(monkeypatch, tmp_path, capsys):
+    """The pilot's points are stored as they end (done work), and its timing chooses: a pool that would take
+    forever to start leaves the rest here, one that starts at once takes them; the same results either way."""
+    from lubelink.sweep import execute
+
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.05, 0.1, 0.15, 0.2],
+                                  "mechanism.crank_speed": [20.0, 30.0, 40.0]}))
+    assert execute.wants_pilot(sp, sp.size, workers=2)  # kernels cached by the test session's warm-up
+    assert not execute.wants_pilot(sp, sp.size, workers=1) and not execute.wants_pilot(sp, sp.size, "serial", 2)
+    assert not execute.wants_pilot(sp, execute.PILOT_POINTS + 1, workers=2)
+    monkeypatch.setattr(execute, "PILOT_POINTS", 3)
+    monkeypatch.setattr(execute, "PILOT_SECONDS", math.inf)
+    reference = run_sweep(sp, tmp_path / "ref.zarr", executor="serial", progress=False)
+    capsys.readouterr()
+    for pool_start, kind in [(math.inf, "serial"), (-math.inf, "processes")]:
+        monkeypatch.setattr(execute, "POOL_START", pool_start)
+        ds = run_sweep(sp, tmp_path / f"{kind}.zarr", workers=2, progress=True)
+        line = [x for x in capsys.readouterr().err.splitlines() if x.startswith("lubelink sweep: ")]
+        assert len(line) == 1 and "3 point(s) here took" in line[0], line
+        assert line[0].startswith(f"lubelink sweep: {sp.size - 4} point(s) "), line  # after the first and 3 timed
+        runs = json.loads(ds.attrs["runs"])
+        assert runs[-1]["executor"] == kind and runs[-1]["computed"] == sp.size and runs[-1]["resumed"] == 0
+        same_results(ds, reference)
+
+
+def test_a_timed_pilot_chooses_by_the_time_each_side_would_take(monkeypatch):
+    from lubelink.sweep import execute
+
+    sp = read_sweep(sweep_dict(**{"film.viscosity": [0.05, 0.1]}))
+    monkeypatch.setattr(execute, "free_cores", lambda: (2.0, 0.0))
+    assert execute.choose_executor(sp, 400, workers=2, timed=(8, 0.01, 1.0))[:2] == ("processes", 2)  # 4 s, 3 s
+    kind, n, line = execute.choose_executor(sp, 100, workers=2, timed=(8, 0.01, 1.0))  # 1 s here, 1.5 s on 2
+    assert (kind, n) == ("serial", 1)
+    assert line == ("100 point(s) in this process (8 point(s) here took 10 ms each: about 1 s in this process, "
+                    "1.5 s on 2 workers)")
+    assert execute.choose_executor(sp, 400, workers=1, timed=(8, 0.01, 0.0))[:2] == ("serial", 1)
+    monkeypatch.setattr(execute, "free_cores", lambda: (1.2, 0.8))  # 2 workers asked for, 1.2 cores free
+    kind, n, line = execute.choose_executor(sp, 400, workers=2, timed=(8, 0.01, 1.0))  # 4 s here, 4.3 s there
+    assert (kind, n) == ("serial", 1) and line.endswith("4.3 s on 2 workers (1.2 cores free))")
+    assert execute.choose_executor(sp, 400, "processes", workers=2, timed=(8, 1.0, 99.0))[:2] == ("processes", 2)
 
 
 def test_the_serial_path_stores_what_the_pool_stores(tmp_path, capsys):

@@ -39,7 +39,7 @@ import time
 
 from ._jit import compile_errors, cores
 
-__all__ = ["start", "wait", "first_run", "announcing", "compile_on_two_cores", "ctrl_c_while_compiling"]
+__all__ = ["start", "wait", "first_run", "kernels_ready", "announcing", "compile_on_two_cores", "ctrl_c_while_compiling"]
 
 #: Longest wait for the helper [s]: beyond it this process compiles what it still needs itself.
 WAIT_LIMIT = 120.0
@@ -195,6 +195,26 @@ def first_run(model, motion=None, say=None):
         say(COMPILING)
     compile_on_two_cores(model, motion)
     return model
+
+
+def kernels_ready(config) -> bool:
+    """Whether a run of ``config`` in this process would find its compiled kernels, loaded or in the on-disk
+    cache (the right-hand side, the method's step and the driver): then it costs what a warm run costs, and
+    timing it measures the run (a sweep's pilot points, :func:`lubelink.sweep.execute.choose_executor`). The
+    ``numpy`` backend compiles nothing: True. The spatial link: False (not checked here)."""
+    from .build import build_model
+    from .integrate.driver import signatures
+    from .link.model import rhs
+
+    model = build_model(config)
+    if not model.compiled:
+        return True
+    if model.params.spatial is not None:
+        return False
+    p_type = model.params_type
+    if id(p_type) in _WARM:
+        return True
+    return _is_warm(rhs, signatures(p_type)[0].args) and _run_is_cached(config, p_type)
 
 
 def _run_is_cached(config, p_type) -> bool:

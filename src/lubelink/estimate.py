@@ -26,18 +26,29 @@ The work counted:
   ``modes x quadrature_nodes``; this is what makes 200 modes slow;
 * **the results** (:func:`results_cost`): per output sample, the film's series, the energy's powers
   and the joint reactions evaluate the film about six times; a fixed part builds the model and the
-  Dataset.
+  Dataset;
+* **mixed lubrication** (:mod:`lubelink.mixed`, rough surfaces): the collar holds the link against its
+  rigid motion's inertial load and the link bends through it, tilting about 10 um across ``guide``'s pad
+  whatever the clearance, and it sinks into the collar over the revolutions until the asperities carry
+  the joint load; the share of the pad's films within reach of the asperities costs a Greenwood-Tripp
+  quadrature per node and evaluation (:data:`GT_INTEGRAL`), the share of the run with the asperities
+  loaded adds stiff steps (:data:`LOADED_STEPS`).
 
-Measured against it (``simulate()`` warm, 2026-11-28, ``benchmarks/bench.py --only estimate``): the
-built-in scenarios take 0.73-1.32x their estimate, except ``guide-mixed`` at 2.6x: there the asperities
-touch over much of the pad, which costs per node and stiffens the steps, and how much of the pad they
-touch depends on the deflection, which the configuration does not tell.
+Measured against it (``simulate()`` warm, 2026-11-28, ``benchmarks/bench.py --only estimate``): the built-in
+scenarios took 0.73-1.32x their estimate on a quiet machine, except ``guide-mixed`` at 2.6x before the
+mixed-lubrication share; with it, at a load average of 3-8 on the shared 2-core machine (CPU time; the short
+scenarios, whose estimate it leaves alone, took 1.3-3.5x theirs at that load), ``guide`` 0.99-1.06x,
+``guide-mixed`` 1.78-2.24x, and ``guide`` along its clearance over 0.5 s (100 to 16 um: 0.61 to 2.55 s of CPU)
+0.70-0.90x. Its share of the pad within reach of the asperities (0.05) is 0.19 in the run's first 0.5 s: the
+run's pad lies flatter in the collar than the quasi-static tilt, so ``guide-mixed`` stays on the low side.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+from .mixed import mixed_share
 
 __all__ = ["Estimate", "run_cost", "results_cost", "duration"]
 
@@ -76,6 +87,17 @@ EVAL_PER_CLIPPED_NODE, EVAL_PER_ROUGH_NODE = 0.05e-6, 0.05e-6
 #: Seconds per step and squared state size: the exponential methods' work on the state (their phi
 #: functions and tables; ``spatial-slider-crank``, 18 states: 13.5 us a step for 7 evaluations of 0.9 us).
 EXPONENTIAL_PER_STATE2 = 0.01e-6
+#: Seconds of one Greenwood-Tripp integral (``F_{5/2}`` or ``F_{3/2}``, a 256-interval quadrature: 257
+#: exponentials), computed at every node within reach of the asperities (:mod:`lubelink.mixed`), at each
+#: evaluation and, for the stiff method's Jacobian, once more a step. ``benchmarks/bench.py --only estimate``
+#: prints it alone (4.3-7.6 us on the shared 2-core machine); in the runs of ``guide`` at 16 um and of
+#: ``guide-mixed``, 4.2 and 3.3 us (their time a step beyond ``guide``'s at 40 um, over the integrals counted).
+GT_INTEGRAL = 4.0e-6
+#: The stiff method's steps grow by this times the share of the run with the asperities loaded
+#: (:attr:`lubelink.mixed.MixedShare.loaded`): the clearance sweep of ``guide`` over 0.5 s (steps 1.17, 1.47,
+#: 1.91 times those of 40 um at 25, 20, 16 um; shares 0.06, 0.22, 0.31: 2.1-2.9), and ``guide-mixed`` over
+#: 2 s (2.2 times ``guide``'s steps, share 0.22: 5.5).
+LOADED_STEPS = 3.0
 #: Seconds per point of the Reynolds cavitation grid per evaluation.
 EVAL_PER_GRID_POINT = 0.035e-6
 #: Seconds per pad grid point and term across the width (``film.reynolds = "2d"``) per evaluation,
@@ -153,15 +175,18 @@ def run_cost(config) -> Estimate:
     if b.model == "spatial":
         floors.append((s.t_end * _first_axial_mode(config) / AXIAL_RADIANS_PER_STEP, ""))
     rate = film_squeeze_rate(config)
+    mixed = mixed_share(config)
     if method == "rodas" and stiff_reason(config):
-        floors.append((s.t_end * STIFF_STEPS_PER_SECOND, "a stiff film"))
+        floors.append((s.t_end * STIFF_STEPS_PER_SECOND * (1.0 + LOADED_STEPS * mixed.loaded),
+                       "a stiff film" + (f", the asperities loaded {mixed.loaded:.0%} of the run" if mixed.loaded
+                                         else "")))
     elif method not in ("rodas", "Radau", "BDF", "LSODA") and rate > 0.0:
         floors.append((s.t_end * rate * (b.modes / 3.0) ** STIFF_POWER / STIFF_STABILITY,
                        f"{method} is not made for a stiff film: the squeeze film damps at {rate:.3g} 1/s "
                        "(solver.method = 'auto' or 'rodas')"))
     steps, why_steps = max(floors, key=lambda f: f[0])
 
-    per_eval = _per_eval(config)
+    per_eval = _per_eval(config, mixed)
     if s.backend == "numpy":
         per_eval *= NUMPY_FACTOR
     per_step = EVALS_PER_STEP.get(method, 12) * per_eval
@@ -170,6 +195,7 @@ def run_cost(config) -> Estimate:
     if method == "rodas":
         N, nodes = b.modes, fm.quadrature_nodes
         per_step += JACOBIAN_PER_TERM * (N * N * nodes + N * nodes * nodes) * max(fm.sides if fm.enabled else 0, 1)
+        per_step += GT_INTEGRAL * mixed.zone * fm.quadrature_nodes * fm.sides
     if method in SCIPY:
         per_step += EVALS_PER_STEP.get(method, 12) * SCIPY_PER_EVAL + SCIPY_PER_STEP
     step_seconds = steps * per_step
@@ -188,8 +214,9 @@ def run_cost(config) -> Estimate:
     return Estimate(step_seconds + sample_seconds, steps, reason)
 
 
-def _per_eval(config) -> float:
-    """Seconds of one compiled evaluation of the right-hand side."""
+def _per_eval(config, mixed=None) -> float:
+    """Seconds of one compiled evaluation of the right-hand side (``mixed``: :func:`lubelink.mixed.mixed_share`
+    of ``config``, computed when not given)."""
     b, fm = config.beam, config.film
     if not fm.enabled:
         return EVAL_BASE
@@ -204,7 +231,7 @@ def _per_eval(config) -> float:
     elif fm.cavitation == "half-sommerfeld":
         per_eval += EVAL_PER_CLIPPED_NODE * nodes
     if fm.roughness > 0.0:
-        per_eval += EVAL_PER_ROUGH_NODE * nodes
+        per_eval += (EVAL_PER_ROUGH_NODE + GT_INTEGRAL * (mixed or mixed_share(config)).zone) * nodes
     return per_eval
 
 
@@ -215,13 +242,14 @@ def _first_axial_mode(config) -> float:
     return 0.5 * omega if b.axial_end == "free" else omega
 
 
-def results_cost(config) -> float:
-    """Estimated wall time [s] of the results (:func:`lubelink.results.collect` and the Dataset) of a run."""
+def results_cost(config, mixed=None) -> float:
+    """Estimated wall time [s] of the results (:func:`lubelink.results.collect` and the Dataset) of a run
+    (``mixed``: as :func:`_per_eval`)."""
     s = config.solver
     samples = s.t_end / s.output_step + 1.0
     if s.backend != "numpy":
         fm = config.film
-        per_sample = RESULTS_BASE + RESULTS_EVALS * (_per_eval(config) - EVAL_BASE)
+        per_sample = RESULTS_BASE + RESULTS_EVALS * (_per_eval(config, mixed) - EVAL_BASE)
         if fm.enabled:
             per_sample += RESULTS_PER_SIDE * fm.sides
         if config.beam.model == "spatial":

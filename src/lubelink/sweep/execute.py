@@ -1,7 +1,8 @@
 """Running a sweep (the client side): :func:`run_sweep`.
 
 Validate every point, open (or resume) the store, choose where the points run
-(:func:`choose_executor`: this process, a pool of processes, or Dask), then compute them there
+(:func:`choose_executor`: this process, a pool of processes, or Dask; by the time of pilot points
+computed here, :func:`run_pilot`, where the kernels are cached), then compute them there
 (:func:`lubelink.sweep.local.run_serial`, :func:`~lubelink.sweep.local.run_pool`,
 :func:`lubelink.sweep.on_dask._execute`). Each task's points are committed to the store as it
 completes, the same way on every path (:class:`~lubelink.sweep.local.Tally`), so an interruption
@@ -24,14 +25,15 @@ import numpy as np
 
 from ..config import ConfigError
 from ..params import sample_times
-from .compute import _empty_record, _TaskOptions
+from .compute import _compute_points, _empty_record, _TaskOptions
 from .local import Tally, _bar, _cpu_count, free_cores, run_pool, run_serial, start_server
 from .on_dask import LOCAL_CLUSTER_CONFIG, _dask_client, _execute, _threads
 from .parse import MAX_POINTS, MAX_POINTS_LIMIT, read_sweep
 from .schema import SweepError
 from .store import _check_attrs, _export_netcdf, _is_netcdf, _side_store, _Store, load_sweep
 
-__all__ = ["run_sweep", "sweep", "LOCAL_CLUSTER_CONFIG", "EXECUTORS", "SERIAL_SECONDS", "DASK_SECONDS"]
+__all__ = ["run_sweep", "sweep", "LOCAL_CLUSTER_CONFIG", "EXECUTORS", "SERIAL_SECONDS", "DASK_SECONDS",
+           "PILOT_POINTS", "PILOT_SECONDS", "choose_executor", "wants_pilot", "run_pilot"]
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +48,20 @@ SERIAL_SECONDS = 1.0
 #: ``executor="auto"`` runs a sweep on a Dask ``LocalCluster`` when its points' estimated time is
 #: over this [s] (inf: never; a process pool was faster at every size measured, docs/sweeps.md).
 DASK_SECONDS = math.inf
+#: The pilot of ``executor="auto"`` (where the kernels are cached and more than one worker would run,
+#: :func:`wants_pilot`): this process computes the first pending points, each stored as it ends (done
+#: work, as on the serial path), until ``PILOT_POINTS`` points after the first (which loads the compiled
+#: kernels) are timed or they took ``PILOT_SECONDS`` [s]; their mean time, the store's commit included,
+#: prices the rest here and on the pool (:func:`choose_executor`'s ``timed``). Sweeps of at most
+#: ``PILOT_POINTS + 1`` points run here at once.
+PILOT_POINTS, PILOT_SECONDS = 8, 0.25
+#: Seconds a pool adds beside this process: its forkserver's start (imports, the compiled kernels
+#: loaded, a warm-up point: ``SERVER_WARM``, less the time it has run while this process validated the
+#: points, built the store and ran the pilot: it starts with them where the estimate says the pool may
+#: pay, ``SPECULATE_SECONDS``, and a core beside this process's is free), and the workers' start and stop
+#: (``POOL_START``). On a loaded machine (load average 3.5 on 2 cores) a server started beside the pilot
+#: made 400 points in this process 4-5 s slower (17.0-20.4 s against 12.8-14.9 s).
+SERVER_WARM, POOL_START, SPECULATE_SECONDS = 2.0, 0.4, 0.1
 
 
 def serial_seconds(sp, n_points, sample=16):
@@ -64,23 +80,61 @@ def serial_seconds(sp, n_points, sample=16):
     return n_points * (float(np.mean(seconds)) if seconds else 0.0)
 
 
-def choose_executor(sp, n_points, executor="auto", workers=None, dask_given=False):
-    """``(kind, workers, line)``: where ``n_points`` points of ``sp`` run (``"serial"``,
-    ``"processes"`` or ``"dask"``), on how many worker processes, and one line saying why.
-
-    ``"auto"`` without ``workers`` starts a worker per free core (:func:`~lubelink.sweep.local.free_cores`:
-    those the other processes of the machine leave idle, rounded to the nearest): with one core free
-    (or none), the points run in this process."""
+def _workers(executor, workers, dask_given):
+    """``(n, load)``: the worker processes of a pool (``workers``, else one per free core for ``"auto"``:
+    :func:`~lubelink.sweep.local.free_cores`) and a note on the other processes' load (or "")."""
     n, load = workers or _cpu_count(), ""
     if executor == "auto" and not workers and not dask_given and n > 1:
         free, busy = free_cores()
         n = max(1, min(n, int(free + 0.5)))
         load = f"; other processes keep {busy:.1f} of {_cpu_count()} cores busy"
+    return n, load
+
+
+def wants_pilot(sp, n_points, executor="auto", workers=None, dask_given=False):
+    """Whether ``"auto"`` times pilot points of ``sp`` before it chooses (:data:`PILOT_POINTS`): more than a
+    worker would run, more points than the pilot, and the kernels of the sweep's base configuration
+    cached (:func:`lubelink._prewarm.kernels_ready`; else the pilot would compile, and the estimate
+    decides)."""
+    from .._prewarm import kernels_ready
+
+    if executor != "auto" or dask_given or n_points <= PILOT_POINTS + 1:
+        return False
+    if _workers(executor, workers, dask_given)[0] < 2:
+        return False
+    try:
+        return kernels_ready(sp.base_config)
+    except Exception:  # noqa: BLE001 - a model that cannot be built here: its points fail alike; the estimate decides
+        return False
+
+
+def choose_executor(sp, n_points, executor="auto", workers=None, dask_given=False, timed=None):
+    """``(kind, workers, line)``: where ``n_points`` points of ``sp`` run (``"serial"``,
+    ``"processes"`` or ``"dask"``), on how many worker processes, and one line saying why.
+
+    ``"auto"`` without ``workers`` starts a worker per free core (:func:`~lubelink.sweep.local.free_cores`:
+    those the other processes of the machine leave idle, rounded to the nearest): with one core free
+    (or none), the points run in this process. With ``timed``, ``(points, seconds, pool_start)``: ``points``
+    pilot points took ``seconds`` each in this process, and a pool would add ``pool_start`` [s]: the points
+    run where they end sooner, ``n_points x seconds`` here or ``pool_start + n_points x seconds / workers``;
+    else by the estimate (:func:`serial_seconds` against :data:`SERIAL_SECONDS`). The pool's workers share the
+    cores other processes leave free (``workers`` given: as many workers as asked, at most that speed-up).
+    Measured with ``--workers 2`` on the shared 2-core machine at a load average of 3.5-5, four pairs of runs,
+    400 points: a pool 19.1, 21.6, 12.3, 11.5 s against this process's 12.8, 29.7, 10.8, 9.6 s: the pool lost
+    three times of four; a pilot that counted on 2 cores had priced it at 6.7 s against 8.5 s here."""
+    n, load = _workers(executor, workers, dask_given)
     if executor == "auto":
         if dask_given:
             kind, why = "dask", "a Dask client or scheduler was given"
         elif n == 1:
             kind, why = "serial", "one worker" if not load else "one core free"
+        elif timed is not None:
+            points, seconds, pool_start = timed
+            cores = min(float(n), max(1.0, free_cores()[0])) if workers else float(n)
+            here, pool = n_points * seconds, pool_start + n_points * seconds / cores
+            kind = "processes" if pool < here else "serial"
+            why = (f"{points} point(s) here took {1e3 * seconds:.3g} ms each: about {here:.2g} s in this process, "
+                   f"{pool:.2g} s on {n} workers" + (f" ({cores:.1f} cores free)" if cores < n else ""))
         else:
             est = serial_seconds(sp, n_points)
             if est < SERIAL_SECONDS:
@@ -121,8 +175,11 @@ def run_sweep(sweep, store=None, *, executor="auto", client=None, scheduler=None
         a pool of ``workers`` processes (``concurrent.futures``), ``"dask"`` on Dask (``client``,
         ``scheduler``, or a ``LocalCluster`` of ``workers`` processes started for this call).
         ``"auto"`` (the default): Dask when a client or a scheduler is given; else in this process
-        when ``workers=1`` or when the points' estimated time is under :data:`SERIAL_SECONDS`
-        (less than a pool takes to start), a pool below :data:`DASK_SECONDS`, Dask beyond.
+        when ``workers=1``; else, where the compiled kernels are cached, the first points are computed
+        (and stored) here and timed (:func:`run_pilot`), and the rest run where they end sooner
+        (here, or on a pool that must start: :func:`choose_executor`); without the cache, in this
+        process when the points' estimated time is under :data:`SERIAL_SECONDS` (less than a pool
+        takes to start), a pool below :data:`DASK_SECONDS`, Dask beyond.
         The choice is logged (and printed with ``progress``) and recorded in the run's entry of
         the store's ``runs`` attribute (``executor``).
     client : distributed.Client, optional
@@ -235,15 +292,21 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
     opts = _TaskOptions(quantities=sp.quantities, time_series=sp.time_series, max_impacts=sp.max_impacts,
                         n_time=len(sample_times(sp.base_config.solver)) if sp.time_series else 0,
                         output_step=sp.base_config.solver.output_step, tag=sp.hash[:12])
-    choice = ready = None
-    if client is None and not os.path.lexists(_side_store(path) if _is_netcdf(path) else path) \
-            and not (_is_netcdf(path) and path.exists()):
-        # a new store: every point is pending (less the invalid ones), so the executor is known now, and a
-        # pool's server imports lubelink and loads the kernels while the points are validated and the store
-        # is built (about 2 s of a start)
-        choice = choose_executor(sp, sp.size, executor, workers, False)
-        if choice[0] == "processes":
-            ready = start_server(sp, 0, opts)
+    choice = ready = started = None
+    new = client is None and not os.path.lexists(_side_store(path) if _is_netcdf(path) else path) \
+        and not (_is_netcdf(path) and path.exists())
+    pilot = new and wants_pilot(sp, sp.size, executor, workers, False)
+    if new:
+        # a new store: every point is pending (less the invalid ones), so the executor is known now (or after
+        # the pilot), and a pool's server imports lubelink and loads the kernels while the points are
+        # validated, the store is built and the pilot runs (about 2 s of a start)
+        if pilot:  # the server on a free core beside the pilot, where the pool may pay
+            if serial_seconds(sp, sp.size) >= SPECULATE_SECONDS and free_cores()[0] >= 1.5:
+                ready, started = start_server(sp, 0, opts), time.monotonic()
+        else:
+            choice = choose_executor(sp, sp.size, executor, workers, False)
+            if choice[0] == "processes":
+                ready, started = start_server(sp, 0, opts), time.monotonic()
     bar = _bar(progress, sp.size, "validating") if sp.size >= 500 else None
     try:
         invalid = sp.invalid_points_of(progress=(lambda n: bar.update(n - bar.n)) if bar else None)
@@ -287,31 +350,42 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
         pending = _pending(valid, done, status, retry_failed)
         session["resumed"] = int(done.sum()) - int(done[pending].sum())
         if len(pending):
-            if choice is None or len(pending) != sp.size:
-                choice = choose_executor(sp, len(pending), executor, workers, client is not None)
-            kind, n, why = choice
-            session["executor"] = kind
-            log.info("%s", why)
-            if progress:
-                print(f"lubelink sweep: {why}", file=sys.stderr, flush=True)
             trace = str(Path(trace).resolve()) if trace else None
-            if kind == "dask":
-                with _dask_client(client, None, workers) as (cl, described):
-                    session["scheduler"] = where or described
-                    tally = Tally(st, sp, pending, done, status, progress, session, _threads(cl))
-                    try:
+            tally = per_point = None
+            try:
+                if not new and client is None:  # a resumed store: its pending points known only now
+                    pilot = wants_pilot(sp, len(pending), executor, workers, False)
+                if pilot and len(pending) > PILOT_POINTS + 1:
+                    tally = Tally(st, sp, pending, done, status, progress, session, _workers(executor, workers,
+                                                                                             False)[0])
+                    points, per_point, pending = run_pilot(sp, pending, opts, trace, tally)
+                    warm = SERVER_WARM if started is None else max(0.0, SERVER_WARM - (time.monotonic() - started))
+                    choice = choose_executor(sp, len(pending), executor, workers, False,
+                                             timed=(points, per_point, POOL_START + warm))
+                elif choice is None or len(pending) != sp.size:
+                    choice = choose_executor(sp, len(pending), executor, workers, client is not None)
+                kind, n, why = choice
+                session["executor"] = kind
+                log.info("%s", why)
+                if progress:
+                    print(f"lubelink sweep: {why}", file=sys.stderr, flush=True)
+                if kind == "dask":
+                    with _dask_client(client, None, workers) as (cl, described):
+                        session["scheduler"] = where or described
+                        tally = Tally(st, sp, pending, done, status, progress, session, _threads(cl))
                         _execute(cl, st, sp, pending, opts, trace, tally, task_seconds)
-                    finally:
-                        tally.close()
-            else:
-                session["scheduler"] = "this process" if kind == "serial" else f"process pool, {n} worker process(es)"
-                tally = Tally(st, sp, pending, done, status, progress, session, n)
-                try:
+                else:
+                    session["scheduler"] = ("this process" if kind == "serial"
+                                            else f"process pool, {n} worker process(es)")
+                    tally = tally or Tally(st, sp, pending, done, status, progress, session, n)
                     if kind == "serial":
                         run_serial(sp, pending, opts, trace, tally)
                     else:
-                        run_pool(sp, pending, opts, trace, tally, n, task_seconds, ready)
-                finally:
+                        if ready is None and started is None:
+                            ready = start_server(sp, int(pending[0]), opts)
+                        run_pool(sp, pending, opts, trace, tally, n, task_seconds, ready, per_point)
+            finally:
+                if tally is not None:
                     tally.close()
     except BaseException:
         session["interrupted"] = True
@@ -331,6 +405,25 @@ def _run(sp, path, executor, client, where, workers, retry_failed, overwrite, pr
                 if bool(ds.done.all()):
                     shutil.rmtree(st.path, ignore_errors=True)
     return path
+
+
+def run_pilot(sp, pending, opts, trace, tally):
+    """Compute the first of the ``pending`` points in this process, each stored as it ends (:func:`run_serial`'s
+    way), timing them: ``(points, seconds, rest)``, the points timed (after the first, which loads the compiled
+    kernels), their mean time [s] with the store's commit, and the points left (:data:`PILOT_POINTS`,
+    :data:`PILOT_SECONDS`)."""
+
+    flats = np.asarray(pending, dtype=np.int64)
+    base, points, spent, i = sp.base_config, 0, 0.0, 0
+    while i < len(flats) and points < PILOT_POINTS and spent < PILOT_SECONDS:
+        t0 = time.perf_counter()
+        flat = int(flats[i])
+        results, _ = _compute_points([flat], [sp.overrides(flat)], base, opts, trace)
+        tally.commit(results)
+        if i:
+            points, spent = points + 1, spent + time.perf_counter() - t0
+        i += 1
+    return points, (spent / points if points else 0.0), flats[i:]
 
 
 #: Alias of :func:`run_sweep`.

@@ -375,19 +375,21 @@ def _stop(pool):
     pool.shutdown(wait=False, cancel_futures=True)
 
 
-def run_pool(sp, pending, opts, trace, tally, workers, task_seconds, ready=None):
+def run_pool(sp, pending, opts, trace, tally, workers, task_seconds, ready=None, per_point=None):
     """Compute the points on a pool of ``workers`` processes, a moving window of tasks in flight, each
     task's points stored as it completes.
 
     A worker that dies (killed, out of memory) breaks the pool: its points and those of the other
     tasks in flight are computed again, one point a task and one task at a time, on a new pool; a
     point that breaks it :data:`DEATHS` times alone is stored as ``worker_died``. ``ready``: the file
-    of :func:`start_server` to wait for first.
+    of :func:`start_server` to wait for first; ``per_point``: a point's time [s] where it was measured
+    (the pilot of :mod:`lubelink.sweep.execute`), so that the first tasks are sized by it.
     """
     from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
 
     batcher = Batcher(pending, task_seconds)
+    batcher.per_point = per_point or None
     deaths = {}
     suspects = deque()  # points of tasks in flight when the pool broke: computed alone
     window = 2 * workers + 1
