@@ -223,7 +223,7 @@ def test_the_energy_budget_closes_with_the_axial_force(drive):
 
 
 @pytest.mark.parametrize("sets, words", [
-    ({"beam.axial_force": "elastic"}, "beam.axial_force = 'elastic': must be one of \"none\", \"inertial\""),
+    ({"beam.axial_force": "elastic"}, "beam.axial_force = 'elastic': must be one of \"auto\", \"none\", \"inertial\""),
     ({"beam.axial_force": "inertial", "beam.width_ratio": 0.7}, "uniform link only"),
 ])
 def test_bad_settings_are_named(sets, words):
