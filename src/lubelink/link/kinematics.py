@@ -4,8 +4,8 @@ The beam needs, as functions of time, the true transverse acceleration of the li
 (``A_O2``), the link's angular velocity ``omega`` and acceleration ``alpha``, the collar position
 along the link ``x_star`` and its velocity relative to the link ``V_r``; and, for the extensions,
 the joint reaction on the link, the link angle (gravity), ``v_O1`` (the paper's printed
-equation variant) and ``A_O1``, the acceleration of O along the link (the axial force, :mod:`.axial`). :func:`motion_at` evaluates all of them for one time in compiled code, from a
-:class:`MotionTable`:
+equation variant) and ``A_O1``, the acceleration of O along the link (the axial force, :mod:`.axial`).
+:func:`motion_at` evaluates all of them for one time in compiled code, from a :class:`MotionTable`:
 
 * the slider-crank of the paper's Section 6 in closed form (:func:`slider_crank_state`);
 * sampled motions (:func:`sampled_motion`), as piecewise cubics.
