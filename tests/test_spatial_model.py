@@ -431,7 +431,8 @@ def test_a_u3_breakdown_is_found_at_the_root_of_the_u3_film():
     from scipy.optimize import brentq
 
     over = {"film.model": "none", "film.sides": 2, "film.faces": "u2+u3", "film.clearance": 1e-4,
-            "contact.law": "restitution", "solver.t_end": 0.006, "beam.axial_force": "none", **TIGHT}  # (as the SciPy's)
+            "contact.law": "restitution", "solver.t_end": 0.006, "beam.axial_force": "none",  # (as the SciPy's)
+            **TIGHT}
     ds = lubelink.simulate("spatial-slider-crank", set=over)
     cfg = resolve("spatial-slider-crank", over)
     assert ds.attrs["status"] == "complete" and ds.sizes["impact"] >= 1
