@@ -5,10 +5,18 @@
 force as it is, left out, replaced by its period mean as a constant, by that mean plus a constant diagonal, or by
 its diagonal or its off-diagonal part alone. Printed: the right-hand sides each run takes (``nfev``).
 
-    python benchmarks/axial_cost.py          # a minute or two
+With ``--scenarios``: what the axial force costs each built-in scenario, warm ``simulate()`` with
+``beam.axial_force = "none"`` and ``"inertial"`` timed in turn (A B A B ...), the minimum and the median of
+``--repeats`` pairs, their ratio and the right-hand sides of each.
+
+    python benchmarks/axial_cost.py                          # a minute or two
+    python benchmarks/axial_cost.py --scenarios --repeats 5  # several minutes (guide, guide-mixed are stiff)
 """
 
 from __future__ import annotations
+
+import argparse
+import time
 
 import numpy as np
 
@@ -60,5 +68,35 @@ def main():
     print(f"  beam.axial_force = 'none': nfev {ds.attrs['nfev']}")
 
 
+def scenarios(repeats, only=None):
+    """The table of ``--scenarios``: per built-in scenario, ``simulate()`` with the axial force off and on."""
+    from lubelink.scenarios import SCENARIOS
+
+    print(f"warm simulate(), {repeats} pairs timed in turn; ms min / median")
+    print(f"{'scenario':22} {'none':>17} {'inertial':>17} {'ratio':>6} {'nfev none':>10} {'nfev inertial':>14}")
+    for name in only or SCENARIOS:
+        times, nfev = {"none": [], "inertial": []}, {}
+        for k in range(repeats + 1):  # the first pair warms up (compiles, fills caches)
+            for force in ("none", "inertial"):
+                start = time.perf_counter()
+                ds = lubelink.simulate(name, {"beam.axial_force": force})
+                if k:
+                    times[force].append(time.perf_counter() - start)
+                nfev[force] = (ds.attrs["nfev"], ds.attrs["status"])
+        lo = {f: 1e3 * min(v) for f, v in times.items()}
+        med = {f: 1e3 * float(np.median(v)) for f, v in times.items()}
+        print(f"{name:22} {lo['none']:7.1f} / {med['none']:7.1f} {lo['inertial']:7.1f} / {med['inertial']:7.1f} "
+              f"{med['inertial'] / med['none']:6.2f} {nfev['none'][0]:10d} {nfev['inertial'][0]:14d}"
+              + ("" if nfev["none"][1] == nfev["inertial"][1] == "complete" else f"  {nfev}"))
+
+
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenarios", action="store_true", help="the cost per built-in scenario")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--only", help="comma-separated scenarios (with --scenarios)")
+    args = parser.parse_args()
+    if args.scenarios:
+        scenarios(args.repeats, args.only.split(",") if args.only else None)
+    else:
+        main()

@@ -237,3 +237,16 @@ def test_a_stored_spatial_configuration_without_the_axial_end_reads_fixed():
     planar = to_dict(resolve("paper"))
     del planar["beam"]["axial_end"]
     assert from_stored(planar, "stored").beam.axial_end == "free"
+
+
+def test_a_stored_configuration_without_the_axial_force_reads_none():
+    """A stored configuration lacking beam.axial_force was computed without the axial force (the only model before
+    the key): read with "none", not the later default "auto"; one that has the key reads as written."""
+    from lubelink.config import from_stored, to_dict
+
+    data = to_dict(resolve("lubricated"))
+    assert data["beam"]["axial_force"] == "auto"  # the default (the paper's scenarios set "none")
+    assert from_stored(data, "stored").beam.axial_force == "auto"
+    del data["beam"]["axial_force"]
+    assert from_stored(data, "stored").beam.axial_force == "none"
+    assert "axial_force" not in data["beam"]  # the caller's dict is left as it was

@@ -21,6 +21,7 @@ from lubelink.link.kinematics import (
     SliderCrank,
     collar_many,
     collar_travel,
+    motion_at,
     sampled_motion,
     slider_crank,
 )
@@ -120,12 +121,18 @@ def test_rates_by_finite_differences():
 
 
 def test_crank_pin_velocity_and_acceleration_in_rod_frame():
-    """v_O1 = dO/dt . i and A_O2 = d2O/dt2 . j, i and j from the positions."""
+    """v_O1 = dO/dt . i, A_O1 = d2O/dt2 . i and A_O2 = d2O/dt2 . j, i and j from the positions; the motion the
+    compiled code reads (:func:`motion_at` of the slider-crank's table) gives the same A_O1."""
     k, g = kin(T), geometry(T)
     vO = d1(lambda s: geometry(s)["O"], T, H1)
     aO = d2(lambda s: geometry(s)["O"], T, H2)
     np.testing.assert_allclose(k["v_O1"], np.sum(vO * g["i"], axis=0), rtol=0, atol=RTOL1 * 2.2)
+    np.testing.assert_allclose(k["A_O1"], np.sum(aO * g["i"], axis=0), rtol=0, atol=RTOL2 * 70)
     np.testing.assert_allclose(k["A_O2"], np.sum(aO * g["j"], axis=0), rtol=0, atol=RTOL2 * 70)
+    table = SliderCrank(PAPER).table()
+    A_O1 = np.array([motion_at(s, table).A_O1 for s in T])
+    np.testing.assert_allclose(A_O1, np.sum(aO * g["i"], axis=0), rtol=0, atol=RTOL2 * 70)
+    np.testing.assert_array_equal(SliderCrank(PAPER)(T).A_O1, k["A_O1"])
 
 
 def test_collar_vertical_acceleration():
@@ -216,9 +223,15 @@ def test_sampled_motion_reproduces_slider_crank():
         r, g = getattr(ref, name), getattr(got, name)
         np.testing.assert_allclose(g, r, rtol=0, atol=rel * np.abs(r).max(), err_msg=name)
     # explicit alpha and V_r samples are interpolated, not differentiated
-    mo2 = sampled_motion(ts, k["A_O2"], k["omega"], k["x_star"], alpha=k["alpha"], V_r=k["V_r"])
+    mo2 = sampled_motion(ts, k["A_O2"], k["omega"], k["x_star"], alpha=k["alpha"], V_r=k["V_r"], A_O1=k["A_O1"])
     np.testing.assert_allclose(mo2(tm).alpha, ref.alpha, rtol=0, atol=2e-8 * np.abs(ref.alpha).max())
     np.testing.assert_allclose(mo2(ts).V_r, k["V_r"], rtol=1e-12, atol=1e-14)
+    # A_O1 is a channel of its own: interpolated in Python and in the compiled table alike; absent, NaN
+    np.testing.assert_allclose(mo2(tm).A_O1, ref.A_O1, rtol=0, atol=2e-8 * np.abs(ref.A_O1).max())
+    table = mo2.table()
+    np.testing.assert_allclose([motion_at(s, table).A_O1 for s in tm[::500]], ref.A_O1[::500], rtol=0,
+                               atol=2e-8 * np.abs(ref.A_O1).max())
+    assert mo2.gives_axial_acceleration and not mo.gives_axial_acceleration and np.all(np.isnan(mo(tm).A_O1))
 
 
 def test_collar_samples_of_the_compiled_motion_are_the_geometry():

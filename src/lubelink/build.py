@@ -6,12 +6,39 @@ so that neither imports the other's builder.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from .assembly import Model, _backend, make_params
 from .errors import BackendError
 from .link.kinematics import SliderCrank
 from .params import Config
 
-__all__ = ["build_model"]
+__all__ = ["build_model", "axial_force_of"]
+
+
+def axial_force_of(config: Config, motion=None, section=None) -> str:
+    """The ``beam.axial_force`` a configuration runs with under ``motion`` and ``section`` (:func:`build_model`'s):
+    the key itself, or for ``"auto"`` ``"inertial"`` where the model has the axial force, ``"none"`` elsewhere.
+
+    The model has it (docs/model.md §1.5) on a uniform link (no taper, no ``section``) under the slider-crank of
+    ``[mechanism]`` (at constant speed, or driven with a massless, unloaded slider: ``motion`` None), or, for the
+    planar link, under a motion that gives the pin's axial acceleration ``A_O1`` (``gives_axial_acceleration``;
+    the slider taken on the +X line).
+    """
+    b, d = config.beam, config.drive
+    if b.axial_force != "auto":
+        return b.axial_force
+    if not b.uniform or section is not None:
+        return "none"
+    if not d.prescribed and (d.slider_mass != 0.0 or d.slider_force != 0.0 or d.slider_friction != 0.0):
+        return "none"  # the axial force's slider is massless and frictionless (validation refuses "inertial")
+    if motion is None:
+        return "inertial"
+    if b.model == "spatial":
+        from .link.spatial_motion import SpatialSliderCrank
+
+        return "inertial" if isinstance(motion, SpatialSliderCrank) else "none"
+    return "inertial" if getattr(motion, "gives_axial_acceleration", False) else "none"
 
 
 def build_model(config: Config, motion=None, section=None) -> Model:
@@ -33,7 +60,11 @@ def build_model(config: Config, motion=None, section=None) -> Model:
     ------
     BackendError
         ``solver.backend = "numba"`` for a configuration the compiled path cannot run.
+
+    The model's configuration is ``config`` with ``beam.axial_force = "auto"`` resolved (:func:`axial_force_of`).
     """
+    if config.beam.axial_force == "auto":
+        config = replace(config, beam=replace(config.beam, axial_force=axial_force_of(config, motion, section)))
     if config.beam.model == "spatial":
         from .spatial_assembly import build_spatial_model
 
@@ -57,11 +88,11 @@ def build_model(config: Config, motion=None, section=None) -> Model:
 
             raise ConfigError([f"motion = {type(motion).__name__}: a spatial motion drives beam.model = 'spatial' "
                                "only; set beam.model = 'spatial', or pass a planar motion (lubelink.link.kinematics)"])
-    if config.beam.axial_force != "none" and not isinstance(motion, SliderCrank):
+    if config.beam.axial_force != "none" and not getattr(motion, "gives_axial_acceleration", False):
         from .validation import ConfigError
 
-        raise ConfigError([f"beam.axial_force = {config.beam.axial_force!r}: needs the slider-crank's motion (the "
-                           f"axial acceleration of O and the slider's guide), not {type(motion).__name__}; use "
+        raise ConfigError([f"beam.axial_force = {config.beam.axial_force!r}: needs the axial acceleration of O, "
+                           f"which this {type(motion).__name__} does not give; pass A_O1 to the motion, or use "
                            "beam.axial_force = 'none'"])
     compiled, note = _backend(config, motion)
     if config.model.equations in ("double-count", "printed") and not isinstance(motion, SliderCrank):

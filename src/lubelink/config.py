@@ -125,12 +125,17 @@ def from_stored(data: dict, origin: str) -> Config:
     """:func:`from_dict` of a configuration stored beside its results (a results file, a sweep's base).
 
     A stored spatial configuration (``beam.model = "spatial"``) without ``beam.axial_end`` was computed with
-    the axial end fixed (docs/spatial.md, "Boundary conditions"): it is read with ``"fixed"``, so that it
-    computes again what it computed then.
+    the axial end fixed (docs/spatial.md, "Boundary conditions"): it is read with ``"fixed"``; one without
+    ``beam.axial_force`` was computed without the axial force (the only model then): it is read with
+    ``"none"``, not the later default ``"auto"``. So it computes again what it computed then.
     """
     beam = data.get("beam") if isinstance(data, dict) else None
     if isinstance(beam, dict) and beam.get("model") == "spatial" and "axial_end" not in beam:
-        data = {**data, "beam": {**beam, "axial_end": "fixed"}}
+        beam = {**beam, "axial_end": "fixed"}
+    if isinstance(beam, dict) and "axial_force" not in beam:
+        beam = {**beam, "axial_force": "none"}
+    if isinstance(beam, dict):
+        data = {**data, "beam": beam}
     return from_dict(data, origin)
 
 

@@ -35,8 +35,9 @@ FIELDS = {
                                              "compares the peak bending stress with it"),
     "beam.axial_end": ("", "", "spatial model: u1 at the slider end, free (no axial force: a massless frictionless "
                                "slider) or fixed (u1(L) = 0); docs/spatial.md"),
-    "beam.axial_force": ("", "N", "uniform link: none (paper), or inertial: the axial force of the rigid motion's "
-                                  "inertia, gravity and the slider, and its geometric stiffness (N u2')', (N u3')'"),
+    "beam.axial_force": ("", "N", "none (paper), inertial: the axial force of the rigid motion's inertia, gravity "
+                                  "and the slider, and its geometric stiffness (N u2')', (N u3')' (uniform link), or "
+                                  "auto: inertial where the model has it, none elsewhere"),
     "film.model": ("", "", "film model: wedge is paper Eq. 16, wedge+squeeze adds 12 mu dxi/dt"),
     "film.viscosity": ("Pa s", "mu", "dynamic viscosity of the lubricant"),
     "film.clearance": ("m", "H", "total clearance; the film is xi = H/2 - u2"),

@@ -42,7 +42,7 @@ CHOICES = {
     "film.width_series": ("fitted", "sine"),
     "beam.model": ("planar", "spatial"),
     "beam.axial_end": ("fixed", "free"),
-    "beam.axial_force": ("none", "inertial"),
+    "beam.axial_force": ("auto", "none", "inertial"),
     "contact.law": ("none", "restitution", "compliant"),
     "contact.extent": ("point", "pad"),
     "model.equations": ("corrected", "printed-omega2", "double-count", "printed", "printed-film-sign"),
@@ -126,9 +126,12 @@ class Beam:
         ``sin(n pi x / L)``. ``u1(0) = 0`` either way (the crank pin).
     axial_force : str
         The axial force ``N(x, t)`` in the link and its geometric stiffness ``(N u2')'`` (docs/model.md §1.5):
-        ``"none"`` (the paper: dropped) or ``"inertial"``, the axial force of the link's inertia in its rigid
-        motion, gravity and the slider's reaction (:mod:`lubelink.link.axial`). The uniform link under the
-        slider-crank only; the spatial link: the same force on ``u2`` and ``u3``, without the chord's rotation.
+        ``"none"`` (the paper: dropped), ``"inertial"``, the axial force of the link's inertia in its rigid
+        motion, gravity and the slider's reaction (:mod:`lubelink.link.axial`), or ``"auto"`` (the default):
+        ``"inertial"`` where the model has it, ``"none"`` elsewhere (:func:`lubelink.build.axial_force_of`). The
+        uniform link under the slider-crank (at constant speed or driven) or a motion that gives the pin's axial
+        acceleration ``A_O1``; the spatial link: the same force on ``u2`` and ``u3`` under its slider-crank. The
+        paper's scenarios set ``"none"`` (they reproduce the paper).
     """
 
     youngs_modulus: float = 207e9
@@ -142,7 +145,7 @@ class Beam:
     model: str = "planar"
     yield_strength: float = math.inf
     axial_end: str = field(default="free", metadata={"kernel": False})  # (compiled code: SpatialTable.axial)
-    axial_force: str = field(default="none", metadata={"kernel": False})  # (compiled code: Params.geometric)
+    axial_force: str = field(default="auto", metadata={"kernel": False})  # (compiled code: Params.geometric)
 
     @property
     def area(self) -> float:

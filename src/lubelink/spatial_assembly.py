@@ -79,9 +79,10 @@ class SpatialModel(Model):
 
     def kinematics(self, t):
         """The in-plane part of the rigid motion at ``t`` [s] as a planar :class:`~lubelink.link.kinematics.RigidMotion`
-        (``A_O2``, ``omega3``, ``alpha3``, ``x_star``, ``V_r``)."""
+        (``A_O2``, ``omega3``, ``alpha3``, ``x_star``, ``V_r``, ``A_O1``)."""
         k = self.motion.at(t)
-        return RigidMotion(float(k.A_O[1]), float(k.omega[2]), float(k.alpha[2]), float(k.x_star), float(k.V_r))
+        return RigidMotion(float(k.A_O[1]), float(k.omega[2]), float(k.alpha[2]), float(k.x_star), float(k.V_r),
+                           A_O1=float(k.A_O[0]))
 
     def functions(self):
         if self.compiled:

@@ -213,9 +213,9 @@ def validate(config: Config) -> Config:
     if not spatial and b.axial_end != "free":
         problems.append(f"beam.axial_end = {_fmt(b.axial_end)}: an axial end condition needs beam.model = 'spatial' "
                         "(the planar model has no u1); use beam.axial_end = 'free' or beam.model = 'spatial'")
-    if b.axial_force != "none" and not b.uniform:
+    if b.axial_force == "inertial" and not b.uniform:
         problems.append(f"beam.axial_force = {_fmt(b.axial_force)}: the axial force is modelled on the uniform "
-                        "link only (beam.width_ratio = beam.height_ratio = 1); use beam.axial_force = 'none'")
+                        "link only (beam.width_ratio = beam.height_ratio = 1); use beam.axial_force = 'none' or 'auto'")
     if not spatial and fm.faces != "u2":
         problems.append(f"film.faces = {_fmt(fm.faces)}: a film pair on the u3 faces needs beam.model = 'spatial' "
                         "(the planar model has no u3); use film.faces = 'u2' or beam.model = 'spatial'")
@@ -288,9 +288,12 @@ def _drive_problems(config):
     if config.beam.model == "spatial":
         out.append(f"{law}: a driven crank is not supported with beam.model = 'spatial' yet; use drive.law = "
                    "'speed' or beam.model = 'planar'")
-    if config.beam.axial_force != "none":
-        out.append(f"{law}: the axial force needs the prescribed crank speed yet; use drive.law = 'speed' or "
-                   "beam.axial_force = 'none'")
+    loads = [f"drive.{k} = {getattr(d, k)}" for k in ("slider_mass", "slider_force", "slider_friction")
+             if getattr(d, k) != 0.0]
+    if config.beam.axial_force == "inertial" and loads:
+        out.append(f"beam.axial_force = 'inertial' with {', '.join(loads)}: the slider's own loads on the link's "
+                   "axial force are not modelled (its slider is massless and frictionless); set them to 0, or use "
+                   "beam.axial_force = 'auto' or 'none'")
     if config.model.equations != "corrected":
         out.append(f"{law}: the paper's printed equations ({_fmt(config.model.equations)}) need the prescribed "
                    "crank speed; use model.equations = 'corrected'")

@@ -301,9 +301,10 @@ def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TUR
     """The link's rigid motion under the driven crank, for ``config.solver.t_end`` (and a turn beyond).
 
     ``crank_state`` at the integrated ``phi``, ``phi_dot``, ``phi_ddot``, sampled ``samples_per_turn``
-    times a turn at the run's fastest crank speed and interpolated by C2 cubic splines. ``torque``: a further
-    torque of time on the crank (:func:`crank_rates`; the two-way coupling's, :mod:`lubelink.coupling`);
-    ``rtol``: the crank's integration tolerance (:func:`integrate_crank`, ``atol = rtol / 10``).
+    times a turn at the run's fastest crank speed and interpolated by C2 cubic splines (with the pin's axial
+    acceleration ``A_O1``, which the axial force reads). ``torque``: a further torque of time on the crank
+    (:func:`crank_rates`; the two-way coupling's, :mod:`lubelink.coupling`); ``rtol``: the crank's integration
+    tolerance (:func:`integrate_crank`, ``atol = rtol / 10``).
     """
     masses = rigid_masses(config, section)
     m = config.mechanism
@@ -314,9 +315,9 @@ def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TUR
     step = 2.0 * np.pi / fastest / samples_per_turn
     t = np.linspace(0.0, t_grid[-1], int(np.ceil(t_grid[-1] / step)) + 1)
     phi, phi_dot, phi_ddot, _ = crank(t)
-    theta, _, _, A_O2, omega, alpha, x_star, V_r, _, Y_dd, c = _state(phi, phi_dot, phi_ddot, m)
+    theta, _, A_O1, A_O2, omega, alpha, x_star, V_r, _, Y_dd, c = _state(phi, phi_dot, phi_ddot, m)
     s = sampled_motion(t, A_O2, omega, x_star, alpha=alpha, V_r=V_r, reaction=-masses.collar * Y_dd / c,
-                       angle=-theta)
+                       angle=-theta, A_O1=A_O1)
     return DrivenMotion(**{f.name: getattr(s, f.name) for f in fields(s)}, crank=crank)
 
 

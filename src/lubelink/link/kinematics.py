@@ -3,9 +3,9 @@
 The beam needs, as functions of time, the true transverse acceleration of the link end O
 (``A_O2``), the link's angular velocity ``omega`` and acceleration ``alpha``, the collar position
 along the link ``x_star`` and its velocity relative to the link ``V_r``; and, for the extensions,
-the joint reaction on the link, the link angle (gravity) and ``v_O1`` (the paper's printed
-equation variant). :func:`motion_at` evaluates all of them for one time in compiled code, from a
-:class:`MotionTable`:
+the joint reaction on the link, the link angle (gravity), ``v_O1`` (the paper's printed
+equation variant) and ``A_O1``, the acceleration of O along the link (the axial force, :mod:`.axial`).
+:func:`motion_at` evaluates all of them for one time in compiled code, from a :class:`MotionTable`:
 
 * the slider-crank of the paper's Section 6 in closed form (:func:`slider_crank_state`);
 * sampled motions (:func:`sampled_motion`), as piecewise cubics.
@@ -46,7 +46,7 @@ __all__ = [
 #: ``MotionTable.kind`` of the closed-form slider-crank and of a sampled (spline) motion.
 SLIDER_CRANK, SAMPLED = 0, 1
 #: Channels of a sampled motion, in the order of the rows of ``MotionTable.coef``.
-CHANNELS = ("A_O2", "omega", "alpha", "x_star", "V_r", "reaction", "angle")
+CHANNELS = ("A_O2", "omega", "alpha", "x_star", "V_r", "reaction", "angle", "A_O1")
 #: The slider-crank's (empty) spline tables: of the same types as a sampled motion's, so that both
 #: run the same compiled kernels.
 NO_KNOTS, NO_COEF = np.zeros(0), np.zeros((len(CHANNELS), 4, 0))
@@ -77,6 +77,10 @@ class RigidMotion(NamedTuple):
         Angle of the link axis ``i`` about +k from +X [rad] (gravity's direction in the link frame).
     v_O1 : float or ndarray
         Axial velocity of O [m/s] (NaN for a sampled motion; read by the printed equations only).
+    A_O1 : float or ndarray
+        Axial acceleration of O, ``a_O . i`` [m/s^2] (read by the axial force only, ``beam.axial_force``; NaN
+        for a motion of callables without it, 0 for a motion from samples without it: such motions are refused
+        with the axial force).
     """
 
     A_O2: np.ndarray
@@ -87,6 +91,7 @@ class RigidMotion(NamedTuple):
     reaction: np.ndarray = 0.0
     angle: np.ndarray = 0.0
     v_O1: np.ndarray = np.nan
+    A_O1: np.ndarray = np.nan
 
 
 class MotionTable(NamedTuple):
@@ -94,7 +99,7 @@ class MotionTable(NamedTuple):
 
     ``kind`` is :data:`SLIDER_CRANK` (the four lengths and speed are used; ``knots`` and
     ``coef`` empty, :data:`NO_KNOTS` and :data:`NO_COEF`) or :data:`SAMPLED` (``knots`` [s] and
-    ``coef``, shape ``(7, 4, knots.size - 1)``: for each of :data:`CHANNELS` the cubic
+    ``coef``, shape ``(8, 4, knots.size - 1)``: for each of :data:`CHANNELS` the cubic
     coefficients on each interval, highest power first). ``collar_mass`` [kg] scales the
     slider-crank's joint reaction (D7). Both kinds have the same types, so they share the
     compiled kernels.
@@ -187,14 +192,14 @@ def slider_crank_state(t, crank_length, rod_length, crank_speed, guide_distance)
 
 
 def slider_crank(t, crank_length, rod_length, crank_speed, guide_distance):
-    """:func:`slider_crank_state` as a dict of arrays, keyed by name.
+    """:func:`slider_crank_state` as a dict of arrays, keyed by name, with the pin's axial acceleration.
 
-    Keys: ``theta``, ``v_O1``, ``A_O2``, ``omega``, ``alpha``, ``x_star``, ``V_r``, ``A_r``,
-    ``Y_ddot``, ``cos_theta`` (units as :func:`slider_crank_state`).
+    Keys: ``theta``, ``v_O1``, ``A_O1``, ``A_O2``, ``omega``, ``alpha``, ``x_star``, ``V_r``, ``A_r``,
+    ``Y_ddot``, ``cos_theta`` (units as :func:`crank_state`).
     """
-    names = ("theta", "v_O1", "A_O2", "omega", "alpha", "x_star", "V_r", "A_r", "Y_ddot", "cos_theta")
-    values = slider_crank_state(np.asarray(t, dtype=float), crank_length, rod_length, crank_speed,
-                                guide_distance)
+    names = ("theta", "v_O1", "A_O1", "A_O2", "omega", "alpha", "x_star", "V_r", "A_r", "Y_ddot", "cos_theta")
+    t = np.asarray(t, dtype=float)
+    values = crank_state(crank_speed * t, crank_speed, 0.0, crank_length, rod_length, guide_distance)
     return dict(zip(names, values))
 
 
@@ -243,10 +248,10 @@ def motion_at(t, m):
 @jitable
 def _slider_crank_motion(t, m):
     """:func:`motion_at` of the slider-crank (:data:`SLIDER_CRANK`)."""
-    theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
-        t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
+    theta, v_O1, A_O1, A_O2, omega, alpha, x_star, V_r, _, Y_ddot, c_th = crank_state(
+        m.crank_speed * t, m.crank_speed, 0.0, m.crank_length, m.rod_length, m.guide_distance)
     reaction = -m.collar_mass * Y_ddot / c_th
-    return RigidMotion(A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1)
+    return RigidMotion(A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1, A_O1)
 
 
 @jitable
@@ -255,7 +260,7 @@ def _sampled_motion(t, knots, coef):
     return RigidMotion(piecewise_cubic(t, knots, coef, 0), piecewise_cubic(t, knots, coef, 1),
                        piecewise_cubic(t, knots, coef, 2), piecewise_cubic(t, knots, coef, 3),
                        piecewise_cubic(t, knots, coef, 4), piecewise_cubic(t, knots, coef, 5),
-                       piecewise_cubic(t, knots, coef, 6), np.nan)
+                       piecewise_cubic(t, knots, coef, 6), np.nan, piecewise_cubic(t, knots, coef, 7))
 
 
 @jitable
@@ -264,7 +269,9 @@ def pin_axial_acceleration(t, angle, crank_length, crank_speed):
 
     O turns on the crank circle, ``a_O = -OA omega0^2 (cos phi, sin phi)``, and ``i = (cos angle, sin angle)``
     (``angle`` [rad], the link's, ``-theta``): ``A_O1 = -OA omega0^2 cos(phi - angle)``, with ``t`` [s],
-    ``crank_length`` [m], ``crank_speed`` [rad/s]. (Its ``j`` twin is ``A_O2`` of :func:`slider_crank_state`.)
+    ``crank_length`` [m], ``crank_speed`` [rad/s]. (Its ``j`` twin is ``A_O2`` of :func:`slider_crank_state`.) The
+    closed form of the crank turning at constant speed, written apart from :func:`crank_state`'s ``A_O1`` (which
+    the model reads, at any crank motion) as the check of it.
     """
     return -crank_length * crank_speed * crank_speed * np.cos(crank_speed * t - angle)
 
@@ -306,7 +313,10 @@ class SliderCrank:
     def __call__(self, t) -> RigidMotion:
         k = self._kin(t)
         return RigidMotion(k["A_O2"], k["omega"], k["alpha"], k["x_star"], k["V_r"], 0.0 * k["x_star"], -k["theta"],
-                           k["v_O1"])
+                           k["v_O1"], k["A_O1"])
+
+    #: The slider-crank gives the axial acceleration of O (the axial force, ``beam.axial_force``).
+    gives_axial_acceleration = True
 
     def table(self, collar_mass=0.0) -> MotionTable:
         """The :class:`MotionTable` of this motion for the compiled code."""
@@ -345,8 +355,11 @@ class PrescribedMotion:
     reaction : callable, optional
         Force of the collar on the link along +j [N] as a function of time; zero if omitted.
     angle : callable, optional
-        Angle of the link axis about +k from the fixed +X axis [rad], used only to resolve
-        gravity; zero (horizontal link) if omitted.
+        Angle of the link axis about +k from the fixed +X axis [rad], used to resolve gravity and, with the
+        axial force, the slider's guide (the +X line); zero (horizontal link) if omitted.
+    A_O1 : callable, optional
+        Acceleration of O along the link [m/s^2] (:class:`RigidMotion`), needed by ``beam.axial_force =
+        "inertial"`` (refused without it: it does not follow from the other quantities).
     """
 
     A_O2: Callable
@@ -356,6 +369,12 @@ class PrescribedMotion:
     V_r: Callable
     reaction: Callable | None = None
     angle: Callable | None = None
+    A_O1: Callable | None = None
+
+    @property
+    def gives_axial_acceleration(self) -> bool:
+        """Whether the motion gives ``A_O1``, which the axial force reads (``beam.axial_force``)."""
+        return self.A_O1 is not None
 
     def table(self, collar_mass=0.0):
         """None: Python callables cannot be compiled (see :func:`sampled_motion`)."""
@@ -374,7 +393,9 @@ class PrescribedMotion:
 
     def __call__(self, t) -> RigidMotion:
         fields = (self.A_O2, self.omega, self.alpha, self.x_star, self.V_r, self.reaction, self.angle)
-        return RigidMotion(*(self._value(f, t) for f in fields), np.nan + 0.0 * self._value(None, t))
+        nan = np.nan + 0.0 * self._value(None, t)
+        return RigidMotion(*(self._value(f, t) for f in fields), nan, nan if self.A_O1 is None else
+                           self._value(self.A_O1, t))
 
     def joint_reaction(self, t, mass):
         return self._value(self.reaction, t)
@@ -387,7 +408,8 @@ class PrescribedMotion:
         """The :class:`RigidMotion` of :func:`motion_at` at one time ``t`` [s], from the callables."""
         k = self(t)
         return RigidMotion(float(k.A_O2), float(k.omega), float(k.alpha), float(k.x_star), float(k.V_r),
-                           float(self._value(self.reaction, t)), float(self._value(self.angle, t)), np.nan)
+                           float(self._value(self.reaction, t)), float(self._value(self.angle, t)), np.nan,
+                           float(k.A_O1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -406,17 +428,20 @@ class SampledMotion(PrescribedMotion):
         return float(self.knots[0]), float(self.knots[-1])
 
 
-def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None, angle=None):
+def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None, angle=None, A_O1=None):
     """A motion from samples, interpolated by C2 cubic splines; it runs compiled.
 
     ``alpha`` defaults to the spline derivative of ``omega`` and ``V_r`` to that of ``x_star``,
-    so the five functions stay mutually consistent.
+    so the five functions stay mutually consistent. ``A_O1``, the acceleration of O along the link, has no
+    default: it does not follow from the others (O's position is not given; through the slider's guide it
+    would divide by the sine of the link's angle, zero where the link lies along the guide), and the axial
+    force (``beam.axial_force = "inertial"``) refuses a motion without it.
 
     Parameters
     ----------
     t : array_like
         Strictly increasing sample times [s], at least 4.
-    A_O2, omega, x_star, alpha, V_r, reaction, angle : array_like
+    A_O2, omega, x_star, alpha, V_r, reaction, angle, A_O1 : array_like
         Samples at ``t`` in the units of :class:`RigidMotion` (``reaction`` [N], ``angle`` [rad]).
     """
     from scipy.interpolate import CubicSpline
@@ -441,6 +466,7 @@ def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None, 
         "V_r": s_x.derivative() if V_r is None else spline("V_r", V_r),
         "reaction": None if reaction is None else spline("reaction", reaction),
         "angle": None if angle is None else spline("angle", angle),
+        "A_O1": None if A_O1 is None else spline("A_O1", A_O1),
     }
     coef = np.zeros((len(CHANNELS), 4, t.size - 1))
     for i, name in enumerate(CHANNELS):
@@ -449,7 +475,7 @@ def sampled_motion(t, A_O2, omega, x_star, alpha=None, V_r=None, reaction=None, 
             coef[i, 4 - s.c.shape[0]:] = s.c
     return SampledMotion(A_O2=splines["A_O2"], omega=s_omega, alpha=splines["alpha"], x_star=s_x,
                          V_r=splines["V_r"], reaction=splines["reaction"], angle=splines["angle"],
-                         knots=t, coef=np.ascontiguousarray(coef))
+                         A_O1=splines["A_O1"], knots=t, coef=np.ascontiguousarray(coef))
 
 
 @lru_cache(maxsize=4096)

@@ -33,7 +33,7 @@ from ..params import CHOICES
 from . import axial, section
 from .faces import (ContactPhase, asperity_on, compliant_jacobian_on, compliant_on, face_jacobian, film_on,
                     in_sustained, phase_side, sustained_on, thinnest_on)
-from .kinematics import MotionTable, collar_acceleration, motion_at, pin_axial_acceleration
+from .kinematics import MotionTable, collar_acceleration, motion_at
 
 __all__ = ["Params", "Basis", "ContactPhase", "rhs", "gap", "rhs_given", "BackendError"]
 
@@ -134,11 +134,10 @@ def effective_acceleration(A_O2, omega, angle, v_O1, gravity, equations):
 
 
 @jitable
-def axial_terms(g, t, kin, p):
-    """``(c0, c1, c2)`` of the axial force ``N(x) = c0 + c1 x + c2 x^2`` [N, N/m, N/m^2] of the slider-crank's
-    rigid motion ``kin`` at ``t`` (:func:`~lubelink.link.axial.rigid_axial_force`; ``g`` its table)."""
-    A_O1 = pin_axial_acceleration(t, kin.angle, p.motion.crank_length, p.motion.crank_speed)
-    return axial.rigid_axial_force(A_O1, kin.A_O2, kin.omega, kin.alpha, kin.angle, kin.reaction, kin.x_star,
+def axial_terms(g, kin, p):
+    """``(c0, c1, c2)`` of the axial force ``N(x) = c0 + c1 x + c2 x^2`` [N, N/m, N/m^2] of the rigid motion
+    ``kin`` (:func:`~lubelink.link.axial.rigid_axial_force`; ``g`` its table; the slider on the +X line)."""
+    return axial.rigid_axial_force(kin.A_O1, kin.A_O2, kin.omega, kin.alpha, kin.angle, kin.reaction, kin.x_star,
                                    p.mechanism.gravity, g.mass_per_length, p.basis.rod_length)
 
 
@@ -148,7 +147,7 @@ def geometric_on(g, t, kin, q, p, F):
     ``beam.axial_force = "none"``, compiles to nothing)."""
     if g is None:
         return
-    c0, c1, c2 = axial_terms(g, t, kin, p)
+    c0, c1, c2 = axial_terms(g, kin, p)
     axial.geometric_load(g.moments, c0, c1, c2, q, F)
 
 
@@ -195,7 +194,7 @@ def _geometric_jacobian(g, t, kin, p, Jq):
     """Subtract the geometric stiffness ``K`` [N/m] from ``Jq`` (the modal forces' ``dF/dq``; ``g`` None: nothing)."""
     if g is None:
         return
-    c0, c1, c2 = axial_terms(g, t, kin, p)
+    c0, c1, c2 = axial_terms(g, kin, p)
     axial.geometric_jacobian(g.moments, c0, c1, c2, Jq)
 
 
