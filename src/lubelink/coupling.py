@@ -16,7 +16,6 @@ one-way run; its cost is the number of link runs times that of one.
 
 from __future__ import annotations
 
-import bisect
 import time
 from dataclasses import dataclass, field
 
@@ -66,24 +65,17 @@ class Coupling:
 
 class ElasticTorque:
     """The link's elastic torque on the crank [N m] as a callable of time [s]: a C2 cubic spline of its samples,
-    zero after the last (where the link did not run)."""
+    zero after the last (where the link did not run); ``x``, ``c`` its knots and ``PPoly`` coefficients, which
+    the crank's compiled right-hand side evaluates (:class:`~lubelink.link.drive.TabulatedRates`)."""
 
     def __init__(self, t, torque):
         from scipy.interpolate import CubicSpline
 
         self.t, self.torque = np.asarray(t, dtype=float), np.asarray(torque, dtype=float)
         self._spline = CubicSpline(self.t, self.torque)
-        self._knots, self._pieces = self.t.tolist(), self._spline.c.T.tolist()  # (for one time: plain floats)
+        self.x, self.c = self._spline.x, self._spline.c
 
     def __call__(self, t):
-        if np.ndim(t) == 0:  # the crank's integrator asks one time at a time: Horner on the piece, 8x SciPy's call
-            t = float(t)
-            if not self._knots[0] <= t <= self._knots[-1]:
-                return 0.0
-            i = min(bisect.bisect_right(self._knots, t), len(self._pieces)) - 1
-            c3, c2, c1, c0 = self._pieces[i]
-            dt = t - self._knots[i]
-            return ((c3 * dt + c2) * dt + c1) * dt + c0
         t = np.asarray(t, dtype=float)
         inside = (t >= self.t[0]) & (t <= self.t[-1])
         return np.where(inside, self._spline(np.clip(t, self.t[0], self.t[-1])), 0.0)
