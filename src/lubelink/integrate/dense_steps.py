@@ -13,7 +13,7 @@ from lubelink._jit import kernel
 from . import dop853
 from ._layout import F_DIR, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, R_ATOL, R_RTOL, R_Y, S_INIT, S_NFEV
 
-__all__ = ["dop853_steps", "DenseSteps", "integrate_dense"]
+__all__ = ["dop853_steps", "DenseSteps", "integrate_dense", "join"]
 
 ROWS = 8  # a step's interpolant: its 7 rows (dop853.R_COEF on) and the state at its start
 
@@ -53,18 +53,28 @@ class DenseSteps:
     def __init__(self, starts, pieces, nfev):
         self.starts, self.pieces, self.nfev = starts, pieces, nfev
         self.ts = np.append(starts[:, 0], starts[-1, 0] + starts[-1, 1])
+        self._rows = np.ascontiguousarray(pieces.transpose(1, 0, 2))  # [row, step, component]
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
         tt = np.atleast_1d(t).ravel()
         i = np.clip(np.searchsorted(self.ts, tt, side="right") - 1, 0, len(self.starts) - 1)
         x = (tt - self.starts[i, 0]) / self.starts[i, 1]
-        c = self.pieces[i]
-        out = np.zeros((tt.size, c.shape[2]))
-        for j in range(7):  # dop853.dense's Horner scheme
-            out = (out + c[:, 6 - j]) * (x if j % 2 == 0 else 1.0 - x)[:, None]
-        out += c[:, 7]
+        x = x[:, None]
+        out = self._rows[6][i] * x
+        for j in range(1, 7):  # dop853.dense's Horner scheme
+            out += self._rows[6 - j][i]
+            out *= x if j % 2 == 0 else 1.0 - x
+        out += self._rows[7][i]
         return out[0] if t.ndim == 0 else out.T.reshape((-1,) + t.shape)
+
+
+def join(first, second):
+    """One :class:`DenseSteps`: ``first``'s steps that start before ``second`` starts, then ``second``'s (a run
+    continued from ``first``'s state at its start)."""
+    keep = first.starts[:, 0] < second.starts[0, 0]
+    return DenseSteps(np.concatenate([first.starts[keep], second.starts]),
+                      np.concatenate([first.pieces[keep], second.pieces]), first.nfev + second.nfev)
 
 
 def integrate_dense(rhs, p, t0, y0, t_end, rtol, atol):

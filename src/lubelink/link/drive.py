@@ -15,8 +15,9 @@ generalised inertia force is linear in ``phi_ddot``:
     Q_inertia(phi, phi_dot, phi_ddot) = M(phi) phi_ddot + 1/2 M'(phi) phi_dot^2
 
 (:func:`inertia_torque`), hence ``M = Q_inertia(phi, 0, 1)`` and the velocity term ``Q_inertia(phi,
-phi_dot, 0)``. The equation is integrated by SciPy's ``solve_ivp`` (DOP853, dense output) over the
-run; :func:`driven_motion` samples ``phi``, ``phi_dot``, ``phi_ddot`` into a
+phi_dot, 0)``. The equation is integrated by DOP853 with dense output over the run, compiled
+(:func:`integrate_crank` on :class:`TabulatedRates`' right-hand side :func:`tabulated_rates`, SciPy's ``solve_ivp``
+its reference); :func:`driven_motion` samples ``phi``, ``phi_dot``, ``phi_ddot`` into a
 :func:`~lubelink.link.kinematics.sampled_motion`, the prescribed rigid motion of the elastic link.
 
 By itself the coupling is one-way: the link's elastic forces do not act back on the crank. The crank's
@@ -38,7 +39,7 @@ from .kinematics import SampledMotion, crank_state, sampled_motion
 
 __all__ = ["RigidMasses", "rigid_masses", "inertia_torque", "generalised_inertia", "velocity_torque",
            "slider_velocity", "slider_torque", "gravity_torque", "motor_torque", "crank_rates", "integrate_crank",
-           "CrankSolution", "DrivenMotion", "driven_motion", "kinetic_energy", "elastic_torque", "TabulatedRates"]
+           "CrankSolution", "DrivenMotion", "driven_motion", "motion_of", "ShiftedCrank", "join_cranks", "kinetic_energy", "elastic_torque", "TabulatedRates"]
 
 
 class RigidMasses(NamedTuple):
@@ -337,8 +338,9 @@ def tabulated_rates(t, y, out, p):
 
 
 def integrate_crank(config: Config, t_end, masses: RigidMasses | None = None, rtol=1e-11, atol=1e-12, torque=None,
-                    method="compiled"):
-    """Integrate the crank's equation from ``phi = 0``, ``phi_dot = mechanism.crank_speed`` over ``[0, t_end]`` [s].
+                    method="compiled", t0=0.0, y0=None):
+    """Integrate the crank's equation from ``phi = 0``, ``phi_dot = mechanism.crank_speed`` over ``[0, t_end]`` [s]
+    (or from the state ``y0 = (phi, phi_dot, int e dt)`` at ``t0`` [s]).
 
     DOP853 with dense output at tolerances ``rtol``, ``atol`` on :class:`TabulatedRates`: the project's, compiled
     with its right-hand side (:func:`lubelink.integrate.dense_steps.integrate_dense`, ``method="compiled"``), or
@@ -348,23 +350,45 @@ def integrate_crank(config: Config, t_end, masses: RigidMasses | None = None, rt
     """
     masses = rigid_masses(config) if masses is None else masses
     rates = TabulatedRates(config, masses, torque)
-    y0 = [0.0, config.mechanism.crank_speed, 0.0]
+    y0 = [0.0, config.mechanism.crank_speed, 0.0] if y0 is None else [float(v) for v in y0]
     if method == "compiled":
         from ..integrate.dense_steps import integrate_dense
 
         if torque is not None and not hasattr(torque, "c"):
             raise ValueError("integrate_crank: the compiled method takes a piecewise cubic torque (x, c)")
         try:
-            sol = integrate_dense(tabulated_rates, rates.params, 0.0, y0, float(t_end), rtol, atol)
+            sol = integrate_dense(tabulated_rates, rates.params, float(t0), y0, float(t_end), rtol, atol)
         except RuntimeError as exc:
             raise RuntimeError(f"the crank's equation (drive.law = {config.drive.law!r}) failed: {exc}") from None
         return CrankSolution(sol, config, masses, sol.nfev, torque)
     from scipy.integrate import solve_ivp
 
-    sol = solve_ivp(rates, (0.0, float(t_end)), y0, method="DOP853", rtol=rtol, atol=atol, dense_output=True)
+    sol = solve_ivp(rates, (float(t0), float(t_end)), y0, method="DOP853", rtol=rtol, atol=atol, dense_output=True)
     if not sol.success:
         raise RuntimeError(f"the crank's equation (drive.law = {config.drive.law!r}) failed: {sol.message}")
     return CrankSolution(sol.sol, config, masses, int(sol.nfev), torque)
+
+
+class _JoinedTorque:
+    """The further torque of :func:`join_cranks`: ``first``'s before ``at`` [s], ``second``'s from it."""
+
+    def __init__(self, first, second, at):
+        self.first, self.second, self.at = first, second, at
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        zero = lambda s: 0.0 * s  # noqa: E731
+        return np.where(t < self.at, (self.first or zero)(t), (self.second or zero)(t))
+
+
+def join_cranks(first: CrankSolution, second: CrankSolution) -> CrankSolution:
+    """One crank solution: ``first`` up to where ``second`` starts (it started from ``first``'s state there)."""
+    from ..integrate.dense_steps import join
+
+    at = float(second.solution.ts[0])
+    torque = None if first.torque is None and second.torque is None else _JoinedTorque(first.torque, second.torque, at)
+    return CrankSolution(join(first.solution, second.solution), second.config, second.masses,
+                         first.nfev + second.nfev, torque)
 
 
 @dataclass(frozen=True, eq=False)
@@ -388,18 +412,36 @@ def driven_motion(config: Config, section=None, samples_per_turn=SAMPLES_PER_TUR
     ``rtol``: the crank's integration tolerance (:func:`integrate_crank`, ``atol = rtol / 10``).
     """
     masses = rigid_masses(config, section)
-    m = config.mechanism
-    margin = 2.0 * np.pi / abs(m.crank_speed)
+    margin = 2.0 * np.pi / abs(config.mechanism.crank_speed)
     crank = integrate_crank(config, config.solver.t_end + margin, masses, rtol, 0.1 * rtol, torque=torque)
+    return motion_of(crank, config, masses, 0.0, samples_per_turn)
+
+
+class ShiftedCrank:
+    """A crank solution read from ``start`` [s] on: ``shifted(t) = crank(start + t)``."""
+
+    def __init__(self, crank, start):
+        self.crank, self.start = crank, float(start)
+
+    def __call__(self, t):
+        return self.crank(self.start + np.asarray(t, dtype=float))
+
+
+def motion_of(crank, config: Config, masses: RigidMasses, start=0.0, samples_per_turn=SAMPLES_PER_TURN):
+    """:func:`driven_motion`'s sampled motion of an integrated ``crank`` (:class:`CrankSolution`) from ``start`` [s]
+    to its end, in the time from ``start`` (its ``crank`` then a :class:`ShiftedCrank`)."""
+    m = config.mechanism
     t_grid = crank.solution.ts
+    t_grid = t_grid[t_grid >= start]
     fastest = max(float(np.max(np.abs(crank.solution(t_grid)[1]))), 1e-3 * abs(m.crank_speed))
     step = 2.0 * np.pi / fastest / samples_per_turn
-    t = np.linspace(0.0, t_grid[-1], int(np.ceil(t_grid[-1] / step)) + 1)
-    phi, phi_dot, phi_ddot, _ = crank(t)
+    t = np.linspace(0.0, t_grid[-1] - start, int(np.ceil((t_grid[-1] - start) / step)) + 1)
+    phi, phi_dot, phi_ddot, _ = crank(start + t)
     theta, _, _, A_O2, omega, alpha, x_star, V_r, _, Y_dd, c = _state(phi, phi_dot, phi_ddot, m)
     s = sampled_motion(t, A_O2, omega, x_star, alpha=alpha, V_r=V_r, reaction=-masses.collar * Y_dd / c,
                        angle=-theta)
-    return DrivenMotion(**{f.name: getattr(s, f.name) for f in fields(s)}, crank=crank)
+    return DrivenMotion(**{f.name: getattr(s, f.name) for f in fields(s)},
+                        crank=crank if start == 0.0 else ShiftedCrank(crank, start))
 
 
 def elastic_torque(phi, phi_dot, phi_ddot, q, q_dot, q_ddot, m: Mechanism, inertia):
