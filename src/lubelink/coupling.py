@@ -11,7 +11,10 @@ k. the crank with the elastic torque of run k-1 (a spline of it in time) -> a ne
 until the crank speed changes by at most :func:`tolerance` between two iterations, over the time the
 link ran (a run that stops early, at film breakdown say, is coupled up to its stop). The method knows the
 link only as ``run_link(motion) -> Run`` (:func:`relax`), so the integrators and kernels are those of a
-one-way run; its cost is the number of link runs times that of one.
+one-way run; its cost is the number of link runs times that of one. A run longer than 1.5
+:data:`WINDOW_TURNS` crank turns is relaxed in windows of that many turns (:func:`relax_windows`), each started
+from the converged state at the end of the one before: the contraction of a waveform relaxation worsens with the
+length of its interval, so the whole run's iterations grow with it, a window's do not.
 """
 
 from __future__ import annotations
@@ -143,7 +146,7 @@ def relax(config, run_link, section=None, motion=None, max_iterations=MAX_ITERAT
         following = driven_motion(config, section, torque=ElasticTorque(t, torque),
                                   rtol=max(CRANK_RTOL_FACTOR * config.solver.rtol, 1e-13))
         record.crank_time += time.perf_counter() - start
-        before, after = motion.crank(t)[1], following.crank(t)[1]
+        before, after = motion.crank.solution(t)[1], following.crank.solution(t)[1]
         record.tolerance = tolerance(config, before)
         record.changes.append(float(np.max(np.abs(after - before))))
         if record.changes[-1] <= record.tolerance:

@@ -9,7 +9,7 @@ loop knows the right-hand side only as the function it is handed.
 
 import numpy as np
 
-from lubelink._jit import kernel
+from lubelink._jit import ENABLED, kernel
 from . import dop853
 from ._layout import F_DIR, F_HSTEP, F_MAXSTEP, F_T, F_TEND, F_TOLD, R_ATOL, R_RTOL, R_Y, S_INIT, S_NFEV
 
@@ -82,6 +82,12 @@ def integrate_dense(rhs, p, t0, y0, t_end, rtol, atol):
     tolerances ``rtol``, ``atol``; the :class:`DenseSteps` of the run. Raises RuntimeError if a step underflows."""
     y0 = np.asarray(y0, dtype=float)
     n = y0.size
+    if ENABLED:  # (as the driver passes it: a dispatcher itself would be matched against the step's other types)
+        import numba
+
+        from .driver import first_class, signatures
+
+        rhs = first_class(rhs, signatures(numba.typeof(p))[0])
     W = np.zeros((dop853.rows(n), n))
     W[R_Y], W[R_ATOL], W[R_RTOL] = y0, atol, rtol
     fst, ist = np.zeros(32), np.zeros(16, dtype=np.int64)
