@@ -154,7 +154,8 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         contact: ``t`` is the start, ``v_plus`` the approach velocity at the end); ``contacts``
         ``[t_start, t_end, side]`` per contact phase; ``phase_side``, ``phase_v`` the contact
         phase of every sample (side 0: free). With ``drive.coupling = "two-way"`` the last run of the
-        relaxation (:func:`lubelink.coupling.relax`), ``coupling`` its record.
+        relaxation (:func:`lubelink.coupling.relax`; a run longer than 1.5 ``coupling.WINDOW_TURNS`` crank turns
+        in windows, :func:`lubelink.coupling.relax_windows`), ``coupling`` its record.
     """
     if config.drive.coupling == "two-way" and motion is None:
         first = None if model is None else model.motion
