@@ -2,6 +2,7 @@
 prescribed speed, and what the coupling changes: the crank speed's fluctuation, the peak mid-span deflection.
 
     PYTHONPATH=src python benchmarks/coupled_cost.py [scenario ...]
+    PYTHONPATH=src python benchmarks/coupled_cost.py --long    (the link runs against t_end, whole and in windows)
 
 Each configuration is run once to compile and load, then timed (best of ``REPEATS``). The drive: a constant
 motor torque, a flywheel of ``J_f``, a slider of ``m_s`` (a driven scenario, ``driven-piston``: its own drive, one
@@ -62,6 +63,33 @@ def main(cases):
                   f"{first:>12}{contraction:>13}")
 
 
+def long_runs(ends=(0.5, 2.0, 5.0, 10.0)):
+    """``paper-dry`` undamped, two-way: link runs, windows and wall time against ``t_end``, relaxed whole and in
+    windows of ``coupling.WINDOW_TURNS`` turns (the default)."""
+    from lubelink import coupling
+    from lubelink.coupling import CouplingError
+
+    windowed = coupling.WINDOW_TURNS
+    print(f"{'t_end s':>8}{'relaxed':>10}{'time s':>9}{'runs':>6}{'windows':>9}{'runs/window':>13}{'last change':>13}")
+    for t_end in ends:
+        for name, turns in (("whole", 1e9), ("windows", windowed)):
+            coupling.WINDOW_TURNS = turns
+            config = resolve("paper-dry", {**DRIVE, "drive.coupling": "two-way", "solver.t_end": t_end})
+            try:
+                cost, result = timed(config)
+            except CouplingError as exc:
+                print(f"{t_end:>8.1f}{name:>10}  refused: {str(exc)[:90]}")
+                continue
+            rec = result.coupling
+            per = max(len(c) for _, c in rec.windows) if rec.windows else rec.runs
+            print(f"{t_end:>8.1f}{name:>10}{cost:>9.3f}{rec.runs:>6}{len(rec.windows) or 1:>9}{per:>13}"
+                  f"{rec.changes[-1]:>13.3g}")
+    coupling.WINDOW_TURNS = windowed
+
+
 if __name__ == "__main__":
+    if sys.argv[1:] == ["--long"]:
+        long_runs()
+        sys.exit()
     names = sys.argv[1:] or ["paper-dry", "paper", "driven-piston"]
     main([(n, {}) for n in names] + ([("paper-dry", {"beam.modes": 5})] if not sys.argv[1:] else []))

@@ -165,3 +165,40 @@ def test_two_way_coupling_against_exudyn():
                           np.abs(ds.u2_mid.values - np.interp(t, ref["t"], ref["u2_mid"])).max() / peak)
     assert miss["two-way"][0] < 0.25 * miss["one-way"][0], miss
     assert miss["two-way"][1] < 0.03 < miss["one-way"][1], miss
+
+
+def test_windowed_relaxation_matches_the_monolithic_model(monkeypatch):
+    """The relaxation in windows of one crank turn (lubelink.coupling.relax_windows; each window's crank and link
+    started from the converged state at the end of the window before) on the monolithic model's case: within the
+    same bounds as the whole-run relaxation."""
+    from lubelink import coupling
+
+    monkeypatch.setattr(coupling, "WINDOW_TURNS", 1.0)
+    config = resolve("paper-dry", {**BASE, "drive.coupling": "two-way"})
+    r = run(config)
+    assert len(r.coupling.windows) >= 2 and r.coupling.runs == sum(len(c) for _, c in r.coupling.windows)
+    assert r.t.size == np.unique(r.t).size and r.t[-1] == pytest.approx(0.5)
+    phi, speed, q = ref.solve(_mechanism(config, 1), config.mechanism.crank_speed, r.t, rtol=1e-11, atol=1e-14)
+    assert np.abs(r.model.motion.crank(r.t)[1] - speed).max() < 1e-5
+    assert np.abs(r.y[:, 0] - q[:, 0]).max() < 1e-5 * np.abs(q[:, 0]).max()
+
+
+def test_long_undamped_run_converges_in_windows_as_the_whole_run_does_on_two_seconds(monkeypatch):
+    """10 s of the undamped paper-dry (refused whole: the contraction grows with the window) converges in windows
+    of 5 turns, each in as many runs as 2 s takes; on 2 s the windowed and the whole-run relaxation agree within
+    their stopping tolerances."""
+    from lubelink import coupling
+
+    sets = {"drive.law": "torque", "drive.flywheel_inertia": 0.1, "drive.slider_mass": 0.5, "drive.coupling": "two-way"}
+    long = run(resolve("paper-dry", {**sets, "solver.t_end": 10.0}))
+    assert long.status == "complete" and len(long.coupling.windows) == 10
+    assert max(len(c) for _, c in long.coupling.windows) <= 4
+    assert all(c[-1] <= long.coupling.tolerance for _, c in long.coupling.windows)
+    windowed = run(resolve("paper-dry", sets))
+    monkeypatch.setattr(coupling, "WINDOW_TURNS", 1e9)
+    whole = run(resolve("paper-dry", sets))
+    assert len(windowed.coupling.windows) == 2 and not whole.coupling.windows
+    assert np.allclose(windowed.t, whole.t, rtol=0, atol=1e-12)  # (a window's own times plus its start)
+    miss = np.abs(windowed.model.motion.crank(windowed.t)[1] - whole.model.motion.crank(whole.t)[1]).max()
+    assert miss < 2.0 * whole.coupling.tolerance
+    assert np.abs(windowed.y[:, 0] - whole.y[:, 0]).max() < 1e-2 * np.abs(whole.y[:, 0]).max()

@@ -11,24 +11,26 @@ k. the crank with the elastic torque of run k-1 (a spline of it in time) -> a ne
 until the crank speed changes by at most :func:`tolerance` between two iterations, over the time the
 link ran (a run that stops early, at film breakdown say, is coupled up to its stop). The method knows the
 link only as ``run_link(motion) -> Run`` (:func:`relax`), so the integrators and kernels are those of a
-one-way run; its cost is the number of link runs times that of one.
+one-way run; its cost is the number of link runs times that of one. A run longer than 1.5
+:data:`WINDOW_TURNS` crank turns is relaxed in windows of that many turns (:func:`relax_windows`), each started
+from the converged state at the end of the one before: the contraction of a waveform relaxation worsens with the
+length of its interval, so the whole run's iterations grow with it, a window's do not.
 """
 
 from __future__ import annotations
 
-import bisect
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .derived import modal_accelerations
-from .link.drive import driven_motion, elastic_torque
+from .link.drive import driven_motion, elastic_torque, integrate_crank, join_cranks, motion_of, rigid_masses
 from .link.reactions import link_inertia
 from .link.section import taper
 
-__all__ = ["MAX_ITERATIONS", "TOLERANCE_FACTOR", "CRANK_RTOL_FACTOR", "CouplingError", "Coupling", "ElasticTorque", "tolerance",
-           "run_torque", "relax"]
+__all__ = ["MAX_ITERATIONS", "TOLERANCE_FACTOR", "CRANK_RTOL_FACTOR", "WINDOW_TURNS", "CouplingError", "Coupling",
+           "ElasticTorque", "tolerance", "run_torque", "relax", "relax_windows"]
 
 #: The crank's integration tolerance in the iterations: this times ``solver.rtol`` (at least 1e-13). Its error
 #: in the crank speed stays 1e3 below :func:`tolerance`'s; the elastic torque's spline (C2 at the link's
@@ -51,12 +53,15 @@ class CouplingError(RuntimeError):
 class Coupling:
     """How the relaxation went: the largest change of the crank speed [rad/s] at each iteration (``changes``;
     the first is the one-way model's miss), the link runs (``runs``), the stopping ``tolerance`` [rad/s] and the
-    wall time of the crank's integrations (``crank_time``) [s]."""
+    wall time of the crank's integrations (``crank_time``) [s]. Relaxed in windows (:func:`relax_windows`):
+    ``windows`` holds ``(start [s], changes)`` of each window, ``changes`` the largest k-th change over them,
+    ``tolerance`` the largest of theirs."""
 
     changes: list = field(default_factory=list)
     runs: int = 0
     tolerance: float = 0.0
     crank_time: float = 0.0
+    windows: list = field(default_factory=list)
 
     @property
     def contraction(self) -> float:
@@ -66,24 +71,17 @@ class Coupling:
 
 class ElasticTorque:
     """The link's elastic torque on the crank [N m] as a callable of time [s]: a C2 cubic spline of its samples,
-    zero after the last (where the link did not run)."""
+    zero after the last (where the link did not run); ``x``, ``c`` its knots and ``PPoly`` coefficients, which
+    the crank's compiled right-hand side evaluates (:class:`~lubelink.link.drive.TabulatedRates`)."""
 
     def __init__(self, t, torque):
         from scipy.interpolate import CubicSpline
 
         self.t, self.torque = np.asarray(t, dtype=float), np.asarray(torque, dtype=float)
         self._spline = CubicSpline(self.t, self.torque)
-        self._knots, self._pieces = self.t.tolist(), self._spline.c.T.tolist()  # (for one time: plain floats)
+        self.x, self.c = self._spline.x, self._spline.c
 
     def __call__(self, t):
-        if np.ndim(t) == 0:  # the crank's integrator asks one time at a time: Horner on the piece, 8x SciPy's call
-            t = float(t)
-            if not self._knots[0] <= t <= self._knots[-1]:
-                return 0.0
-            i = min(bisect.bisect_right(self._knots, t), len(self._pieces)) - 1
-            c3, c2, c1, c0 = self._pieces[i]
-            dt = t - self._knots[i]
-            return ((c3 * dt + c2) * dt + c1) * dt + c0
         t = np.asarray(t, dtype=float)
         inside = (t >= self.t[0]) & (t <= self.t[-1])
         return np.where(inside, self._spline(np.clip(t, self.t[0], self.t[-1])), 0.0)
@@ -148,7 +146,7 @@ def relax(config, run_link, section=None, motion=None, max_iterations=MAX_ITERAT
         following = driven_motion(config, section, torque=ElasticTorque(t, torque),
                                   rtol=max(CRANK_RTOL_FACTOR * config.solver.rtol, 1e-13))
         record.crank_time += time.perf_counter() - start
-        before, after = motion.crank(t)[1], following.crank(t)[1]
+        before, after = motion.crank.solution(t)[1], following.crank.solution(t)[1]
         record.tolerance = tolerance(config, before)
         record.changes.append(float(np.max(np.abs(after - before))))
         if record.changes[-1] <= record.tolerance:
@@ -161,3 +159,105 @@ def relax(config, run_link, section=None, motion=None, max_iterations=MAX_ITERAT
                 "elastic torque is too large against the flywheel for the relaxation; use a larger "
                 "drive.flywheel_inertia or drive.coupling = 'one-way'")
         motion = following
+
+
+#: Crank turns (at ``mechanism.crank_speed``) of a window of :func:`relax_windows`: a run up to 1.5 times longer
+#: is relaxed whole.
+WINDOW_TURNS = 5.0
+
+
+def _window_end(t_eval, start, length):
+    """The end of the window from ``start`` [s]: the first sample at least ``length`` later, or the run's end
+    where that leaves less than half a window."""
+    i = int(np.searchsorted(t_eval, start + length * (1.0 - 1e-9)))
+    return float(t_eval[-1]) if i >= t_eval.size or t_eval[-1] - t_eval[i] < 0.5 * length else float(t_eval[i])
+
+
+def relax_windows(config, run_link, build, section=None, max_iterations=MAX_ITERATIONS, turns=WINDOW_TURNS):
+    """:func:`relax` in windows of ``turns`` crank turns: each window's crank and link start from the state the
+    converged window before ended in, so the iterations a window takes do not grow with the run; ``(run, Coupling)``.
+
+    ``run_link(motion, t_end, y0) -> Run``: a run of the link from the state ``y0`` (None: at rest) under a
+    motion whose time starts at the window's start (:func:`~lubelink.link.drive.motion_of`), for ``t_end`` [s];
+    ``build(motion)``: the link's model under the whole run's motion, for the joined run. A window ends at a
+    sample; where its link is inside a contact phase there, at the last free sample before. A run that stops
+    early (a film breakdown) ends the relaxation there. Raises :class:`CouplingError` as :func:`relax`.
+    """
+    from dataclasses import replace
+
+    from .params import sample_times
+
+    t_eval = sample_times(config.solver)
+    length = turns * 2.0 * np.pi / abs(config.mechanism.crank_speed)
+    masses = rigid_masses(config, section)
+    margin = 2.0 * np.pi / abs(config.mechanism.crank_speed)
+    record, pieces = Coupling(), []
+    start, state, y0, whole = 0.0, None, None, None
+    while True:
+        end = _window_end(t_eval, start, length)
+        tick = time.perf_counter()
+        crank = integrate_crank(config, end + margin, masses, t0=start, y0=state)
+        record.crank_time += time.perf_counter() - tick
+        changes = []
+        while True:
+            result = run_link(motion_of(crank, config, masses, start), end - start, y0)
+            record.runs += 1
+            t, torque = run_torque(result)
+            tick = time.perf_counter()
+            rtol = max(CRANK_RTOL_FACTOR * config.solver.rtol, 1e-13)
+            following = integrate_crank(config, end + margin, masses, rtol, 0.1 * rtol,
+                                        torque=ElasticTorque(start + t, torque), t0=start, y0=state)
+            record.crank_time += time.perf_counter() - tick
+            before, after = crank.solution(start + t)[1], following.solution(start + t)[1]
+            bound = tolerance(config, before)
+            changes.append(float(np.max(np.abs(after - before))))
+            if changes[-1] <= bound:
+                break
+            if len(changes) >= max_iterations:
+                raise CouplingError(
+                    f"drive.coupling = 'two-way': in the window from {start:.6g} s the crank speed still changes by "
+                    f"{changes[-1]:.3g} rad/s after {len(changes)} runs of the link (tolerance {bound:.3g} rad/s; "
+                    f"changes {', '.join(f'{c:.3g}' for c in changes)}): the elastic torque is too large against the "
+                    "flywheel for the relaxation; use a larger drive.flywheel_inertia or drive.coupling = 'one-way'")
+            crank = following
+        record.windows.append((start, changes))
+        record.tolerance = max(record.tolerance, bound)
+        last = result.t.size - 1
+        if result.complete and end < t_eval[-1] and result.phase_side is not None:
+            free = np.flatnonzero(result.phase_side == 0)
+            last = int(free[-1]) if free.size and free[-1] > 0 else last
+        pieces.append((start, result, last))
+        whole = crank if whole is None else join_cranks(whole, crank)
+        if not result.complete or end >= t_eval[-1]:
+            break
+        start = start + float(result.t[last])
+        state, y0 = crank.solution(start), result.y[last]
+    depth = max(len(c) for _, c in record.windows)
+    record.changes = [max(c[k] for _, c in record.windows if len(c) > k) for k in range(depth)]
+    return _joined(pieces, build(motion_of(whole, config, masses)), replace), record
+
+
+def _joined(pieces, model, replace):
+    """One :class:`~lubelink.results.Run` of the windows' ``(start, run, last sample)``, on ``model``."""
+    out = pieces[-1][1]
+    ts, ys, sides, vs, points, impacts, contacts = [], [], [], [], [], [], []
+    for k, (start, r, last) in enumerate(pieces):
+        stop = last + 1
+        first = 0 if k == 0 else 1  # (a window's first sample is the last one of the window before)
+        ts.append(start + r.t[first:stop])
+        ys.append(r.y[first:stop])
+        for name, store in (("phase_side", sides), ("phase_v", vs), ("phase_point", points)):
+            values = getattr(r, name)
+            store.append(None if values is None else values[first:stop])
+        t_last = r.t[last]
+        impacts += [[start + i[0], *i[1:]] for i in r.impacts if i[0] <= t_last]
+        contacts += [[start + c[0], start + c[1], *c[2:]] for c in r.contacts if c[0] <= t_last]
+
+    def glue(parts):
+        return None if any(p is None for p in parts) else np.concatenate(parts)
+
+    return replace(out, model=model, t=np.concatenate(ts), y=np.concatenate(ys), impacts=impacts, contacts=contacts,
+                   phase_side=glue(sides), phase_v=glue(vs), phase_point=glue(points),
+                   nfev=sum(r.nfev for _, r, _ in pieces), nsteps=sum(r.nsteps for _, r, _ in pieces),
+                   wall_time=sum(r.wall_time for _, r, _ in pieces),
+                   event_time=out.event_time + pieces[-1][0] if np.isfinite(out.event_time) else out.event_time)

@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from . import integrate
 from .config import resolve
 from .contact import ContactLogic
-from .coupling import relax
+from . import coupling
+from .coupling import relax, relax_windows
 from ._jit import compile_errors
 from ._prewarm import announcing, first_run
 from .assembly import compile_failed
@@ -152,16 +154,26 @@ def run(config, motion=None, progress=None, model=None, y0=None, section=None) -
         contact: ``t`` is the start, ``v_plus`` the approach velocity at the end); ``contacts``
         ``[t_start, t_end, side]`` per contact phase; ``phase_side``, ``phase_v`` the contact
         phase of every sample (side 0: free). With ``drive.coupling = "two-way"`` the last run of the
-        relaxation (:func:`lubelink.coupling.relax`), ``coupling`` its record.
+        relaxation (:func:`lubelink.coupling.relax`; a run longer than 1.5 ``coupling.WINDOW_TURNS`` crank turns
+        in windows, :func:`lubelink.coupling.relax_windows`), ``coupling`` its record.
     """
     if config.drive.coupling == "two-way" and motion is None:
         first = None if model is None else model.motion
+        turns = abs(config.mechanism.crank_speed) * config.solver.t_end / (2.0 * np.pi)
+        window = coupling.WINDOW_TURNS
+        if y0 is None and turns > 1.5 * window:  # a long run: relaxed in windows
+            def part(driven, t_end, start_state):
+                local = replace(config, solver=replace(config.solver, t_end=t_end))
+                return _run(local, progress, build_model(local, driven, section), start_state, section)
 
-        def once(driven):
-            built = model if driven is first else build_model(config, driven, section)
-            return _run(config, progress, built, y0, section)
+            result, record = relax_windows(config, part, lambda whole: build_model(config, whole, section), section,
+                                           turns=window)
+        else:
+            def once(driven):
+                built = model if driven is first else build_model(config, driven, section)
+                return _run(config, progress, built, y0, section)
 
-        result, record = relax(config, once, section, first)
+            result, record = relax(config, once, section, first)
         result.coupling = record
         return result
     return _run(config, progress, build_model(config, motion, section) if model is None else model, y0, section)

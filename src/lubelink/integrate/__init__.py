@@ -8,6 +8,7 @@ module                 job
 ``events``             locating a zero of the event function inside a step, grazes included
 ``driver``             the integration loop (compiled or Python), ``integrate`` and ``Segment``
 ``dop853``             Dormand-Prince 8(5,3) with dense output
+``dense_steps``        DOP853 over a whole interval in one compiled loop, kept as its steps' interpolants
 ``bulirsch_stoer``     Gragg-Bulirsch-Stoer extrapolation; also as a SciPy ``OdeSolver``
 ``exponential``        exponential Runge-Kutta for damped oscillators with a nonlinear load
 ``exponential_dense``  its dense output, through the particular solution of each block
