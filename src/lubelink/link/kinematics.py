@@ -248,8 +248,9 @@ def motion_at(t, m):
 @jitable
 def _slider_crank_motion(t, m):
     """:func:`motion_at` of the slider-crank (:data:`SLIDER_CRANK`)."""
-    theta, v_O1, A_O1, A_O2, omega, alpha, x_star, V_r, _, Y_ddot, c_th = crank_state(
-        m.crank_speed * t, m.crank_speed, 0.0, m.crank_length, m.rod_length, m.guide_distance)
+    theta, v_O1, A_O2, omega, alpha, x_star, V_r, A_r, Y_ddot, c_th = slider_crank_state(
+        t, m.crank_length, m.rod_length, m.crank_speed, m.guide_distance)
+    A_O1 = pin_axial_acceleration(t, -theta, m.crank_length, m.crank_speed)
     reaction = -m.collar_mass * Y_ddot / c_th
     return RigidMotion(A_O2, omega, alpha, x_star, V_r, reaction, -theta, v_O1, A_O1)
 
@@ -270,8 +271,8 @@ def pin_axial_acceleration(t, angle, crank_length, crank_speed):
     O turns on the crank circle, ``a_O = -OA omega0^2 (cos phi, sin phi)``, and ``i = (cos angle, sin angle)``
     (``angle`` [rad], the link's, ``-theta``): ``A_O1 = -OA omega0^2 cos(phi - angle)``, with ``t`` [s],
     ``crank_length`` [m], ``crank_speed`` [rad/s]. (Its ``j`` twin is ``A_O2`` of :func:`slider_crank_state`.) The
-    closed form of the crank turning at constant speed, written apart from :func:`crank_state`'s ``A_O1`` (which
-    the model reads, at any crank motion) as the check of it.
+    slider-crank's motion reads it beside :func:`slider_crank_state` (the arithmetic of the constant-speed runs
+    stays theirs); a driven crank's motion takes :func:`crank_state`'s ``A_O1``, which the tests check against it.
     """
     return -crank_length * crank_speed * crank_speed * np.cos(crank_speed * t - angle)
 
